@@ -1,0 +1,51 @@
+# Two commands on a fresh machine: `make demo` and `make test` (see README.md).
+# Every target creates .venv and installs what is missing by itself; a second run is quick.
+
+PYTHON ?= python3
+VENV   := .venv
+PY     := $(VENV)/bin/python
+STAMP  := $(VENV)/.installed
+RTL    := $(wildcard rtl/*.v)
+PYTEST := $(PY) -m pytest
+# Parallel pytest workers for the cocotb regressions (each bench builds in its own folder).
+JOBS   ?= auto
+
+.PHONY: setup tools demo test model-test sim lint roms bench clean
+
+setup: $(STAMP)
+
+$(STAMP): pyproject.toml
+	$(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install -q --upgrade pip
+	$(PY) -m pip install -q -e '.[dev]'
+	touch $(STAMP)
+
+tools:
+	@scripts/ensure-tools.sh iverilog vvp
+
+demo: setup tools
+	$(PY) -m model demo
+
+# All tests: the model tests and every cocotb regression.
+test: setup tools
+	$(PYTEST) -n $(JOBS) tests
+
+model-test: setup
+	$(PYTEST) -n $(JOBS) -m "not sim" tests
+
+# Every cocotb regression under Icarus; WAVES=1 make sim dumps FST waveforms in sim_build/.
+sim: setup tools
+	$(PYTEST) -n $(JOBS) -m sim tests
+
+lint: setup
+	@scripts/ensure-tools.sh verilator
+	@for f in $(RTL); do verilator --lint-only -Wall $$f || exit 1; done
+	@echo "verilator: $(words $(RTL)) RTL files lint-clean"
+	$(PY) -m ruff check model sim tests
+	$(PY) -m ruff format --check model sim tests
+
+roms: setup
+	$(PY) -m model roms
+
+clean:
+	rm -rf sim_build out .pytest_cache .ruff_cache

@@ -1,0 +1,140 @@
+"""Shared fixed-point helpers: ranges, operand checks, rounding, saturation, bit patterns.
+
+Every unit states its formats as ``Qm.f`` (m integer bits, f fraction bits, signed or not) and
+stores values as plain integers in units of 2**-f.  The helpers here are the only place where
+a range is computed, an operand is checked or a value is rounded, so the three units (and the
+RTL benches, which need two's-complement bit patterns) agree on every step.
+
+The ``*_shift`` and ``saturate`` kernels are numba ``@njit`` functions so the units' kernels can
+call them; they also run un-jitted under ``NUMBA_DISABLE_JIT=1``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+# Largest width the int64 kernels handle without overflow in intermediate products.
+MAX_KERNEL_WIDTH = 62
+
+
+@dataclass(frozen=True)
+class QFormat:
+    """A fixed-point format: ``int_bits`` integer bits, ``frac_bits`` fraction bits.
+
+    For a signed format ``int_bits`` includes the sign bit, so Q1.15 signed spans [-1, 1).
+    """
+
+    int_bits: int
+    frac_bits: int
+    signed: bool
+
+    @property
+    def width(self) -> int:
+        return self.int_bits + self.frac_bits
+
+    @property
+    def lo(self) -> int:
+        """Smallest raw integer value."""
+        return signed_range(self.width)[0] if self.signed else 0
+
+    @property
+    def hi(self) -> int:
+        """Largest raw integer value."""
+        return signed_range(self.width)[1] if self.signed else unsigned_range(self.width)[1]
+
+    def describe(self) -> str:
+        return f"{'signed' if self.signed else 'unsigned'} Q{self.int_bits}.{self.frac_bits}"
+
+    def quantise(self, x: float | np.ndarray) -> int | np.ndarray:
+        """Round a real value to the nearest raw integer (half away from zero), saturated."""
+        raw = np.sign(x) * np.floor(
+            np.abs(np.asarray(x, dtype=np.float64)) * 2.0**self.frac_bits + 0.5
+        )
+        raw = np.clip(raw, self.lo, self.hi).astype(np.int64)
+        return int(raw) if raw.ndim == 0 else raw
+
+    def to_float(self, raw: int | np.ndarray) -> float | np.ndarray:
+        return np.asarray(raw, dtype=np.float64) / 2.0**self.frac_bits
+
+
+def signed_range(width: int) -> tuple[int, int]:
+    """(min, max) of a two's-complement integer of ``width`` bits."""
+    return -(1 << (width - 1)), (1 << (width - 1)) - 1
+
+
+def unsigned_range(width: int) -> tuple[int, int]:
+    """(min, max) of an unsigned integer of ``width`` bits."""
+    return 0, (1 << width) - 1
+
+
+def check_width(name: str, width: int, lo: int, hi: int) -> None:
+    """Raise ``ValueError`` unless the configuration width ``name`` lies in [lo, hi]."""
+    if not isinstance(width, int | np.integer) or not lo <= width <= hi:
+        raise ValueError(f"{name} = {width!r} is out of range: legal widths are {lo}..{hi}")
+
+
+def check_operand(name: str, value: int | np.ndarray, lo: int, hi: int) -> np.ndarray:
+    """Return ``value`` as an int64 array, or raise ``ValueError`` naming the first bad element.
+
+    Non-integer input is refused rather than truncated: nothing is lost silently.
+    """
+    arr = np.asarray(value)
+    if arr.dtype.kind not in "iu":
+        if arr.dtype.kind == "f" and np.all(np.isfinite(arr)) and np.all(arr == np.floor(arr)):
+            arr = arr.astype(np.int64)
+        else:
+            raise ValueError(f"{name} must be an integer, got {value!r}")
+    if arr.dtype.kind == "u" and arr.size and arr.max() > np.iinfo(np.int64).max:
+        raise ValueError(f"{name} = {int(arr.max())} is out of range: legal range is {lo}..{hi}")
+    arr = arr.astype(np.int64)
+    bad = (arr < lo) | (arr > hi)
+    if bad.any():
+        first = int(arr[bad].flat[0])
+        raise ValueError(f"{name} = {first} is out of range: legal range is {lo}..{hi}")
+    return arr
+
+
+@njit(cache=True)
+def round_shift(x: int, shift: int) -> int:
+    """x / 2**shift rounded to nearest, ties toward +infinity (add half, arithmetic shift).
+
+    This is what the RTL does: add the constant 2**(shift-1), then drop ``shift`` bits.
+    """
+    if shift <= 0:
+        return x << (-shift)
+    return (x + (1 << (shift - 1))) >> shift
+
+
+@njit(cache=True)
+def trunc_shift(x: int, shift: int) -> int:
+    """x / 2**shift rounded toward -infinity (a plain arithmetic shift: drop the low bits)."""
+    if shift <= 0:
+        return x << (-shift)
+    return x >> shift
+
+
+@njit(cache=True)
+def saturate(x: int, lo: int, hi: int) -> int:
+    """Clamp x to [lo, hi]: the named saturation step every unit output takes."""
+    if x < lo:
+        return lo
+    if x > hi:
+        return hi
+    return x
+
+
+def to_bits(value: int, width: int) -> int:
+    """The unsigned bit pattern of a (possibly negative) integer in ``width`` bits."""
+    lo = signed_range(width)[0]
+    if not lo <= value <= (1 << width) - 1:
+        raise ValueError(f"value {value} does not fit in {width} bits")
+    return value & ((1 << width) - 1)
+
+
+def from_bits(bits: int, width: int) -> int:
+    """The two's-complement integer a ``width``-bit pattern stands for."""
+    bits &= (1 << width) - 1
+    return bits - (1 << width) if bits >> (width - 1) else bits

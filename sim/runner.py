@@ -1,0 +1,92 @@
+"""Build an RTL unit under Icarus and run a cocotb bench on it, from pytest.
+
+``run_bench`` is the one entry point the tests use: it builds into ``sim_build/<name>``, passes
+the unit configuration and seed to the bench through the environment, fails unless the bench
+ran at least one test and all passed, and returns the bench's summary records (how many results
+were compared).  ``WAVES=1`` in the environment dumps an FST waveform next to the build.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import sys
+from dataclasses import asdict, is_dataclass
+from pathlib import Path
+
+from cocotb_tools.check_results import get_results
+from cocotb_tools.runner import get_runner
+
+ROOT = Path(__file__).resolve().parent.parent
+# The bench subprocess gets this process's sys.path: make sure it can import ``sim``.
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+RTL_DIR = ROOT / "rtl"
+SIM_BUILD = ROOT / "sim_build"
+
+
+def require_iverilog() -> None:
+    if shutil.which("iverilog") is None:
+        raise RuntimeError(
+            "iverilog (Icarus Verilog) is not on PATH: install it with "
+            "'apt-get install iverilog' (make test does this when run as root)"
+        )
+
+
+def run_bench(
+    toplevel: str,
+    bench_module: str,
+    name: str,
+    parameters: dict[str, object],
+    config: object,
+    seed: int | None = None,
+    testcase: str | None = None,
+) -> list[dict]:
+    """Build ``rtl/<toplevel>.v`` with ``parameters`` and run ``sim/<bench_module>.py``.
+
+    ``config`` (a dataclass) reaches the bench as JSON in BENCH_CONFIG.  String parameters are
+    quoted for Icarus here.  Returns the summary records the bench's monitors wrote.
+    """
+    require_iverilog()
+    build_dir = SIM_BUILD / name
+    build_dir.mkdir(parents=True, exist_ok=True)
+    summary = build_dir / "summary.jsonl"
+    summary.unlink(missing_ok=True)
+    waves = os.environ.get("WAVES", "0") not in ("", "0")
+    hdl_params = {k: (f'"{v}"' if isinstance(v, str | Path) else v) for k, v in parameters.items()}
+    cfg = asdict(config) if is_dataclass(config) else config
+
+    runner = get_runner("icarus")
+    runner.build(
+        sources=[RTL_DIR / f"{toplevel}.v"],
+        hdl_toplevel=toplevel,
+        parameters=hdl_params,
+        build_dir=build_dir,
+        timescale=("1ns", "1ps"),
+        waves=waves,
+        always=True,
+    )
+    env = {"BENCH_CONFIG": json.dumps(cfg), "BENCH_SUMMARY": str(summary)}
+    if seed is None and "BENCH_SEED" in os.environ:
+        seed = int(os.environ["BENCH_SEED"])
+    if seed is not None:
+        env["BENCH_SEED"] = str(seed)
+    results = runner.test(
+        test_module=bench_module,
+        hdl_toplevel=toplevel,
+        build_dir=build_dir,
+        test_dir=build_dir,
+        extra_env=env,
+        waves=waves,
+        testcase=testcase,
+        results_xml=str(build_dir / "results.xml"),
+    )
+    num_tests, num_failed = get_results(Path(results))
+    if num_tests == 0:
+        raise AssertionError(f"{bench_module} on {name} ran no test")
+    if num_failed:
+        raise AssertionError(f"{num_failed} of {num_tests} cocotb tests failed in {bench_module}")
+    if not summary.exists():
+        raise AssertionError(f"{bench_module} on {name} compared nothing (no summary written)")
+    return [json.loads(line) for line in summary.read_text().splitlines()]

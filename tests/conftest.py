@@ -1,0 +1,42 @@
+"""Shared pytest set-up: the repository root on sys.path (for ``sim``); the regression summary."""
+
+from __future__ import annotations
+
+import sys
+from collections import defaultdict
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+
+def record_sim(request, records: list[dict]) -> None:
+    """Attach a bench's counts to the test report (user_properties travel through xdist)."""
+    for rec in records:
+        request.node.user_properties.append(("sim", rec))
+
+
+def pytest_terminal_summary(terminalreporter, exitstatus, config):
+    totals: dict[str, dict[str, int]] = defaultdict(lambda: {"tests": 0, "compared": 0, "jobs": 0})
+    for report in terminalreporter.stats.get("passed", []) + terminalreporter.stats.get(
+        "failed", []
+    ):
+        if report.when != "call":
+            continue
+        for key, rec in report.user_properties:
+            if key == "sim":
+                t = totals[rec["unit"]]
+                t["tests"] += 1
+                t["compared"] += rec["compared"]
+                t["jobs"] += rec["jobs"]
+    if not totals:
+        return
+    tr = terminalreporter
+    tr.section("RTL regression summary (every result compared bit for bit with the model)")
+    for unit, t in sorted(totals.items()):
+        tr.write_line(
+            f"{unit}: {t['compared']} results compared in {t['jobs']} jobs "
+            f"over {t['tests']} cocotb tests"
+        )
+    tr.write_line(f"all units: {sum(t['compared'] for t in totals.values())} results compared")
