@@ -115,7 +115,8 @@ class ProtocolMonitor:
         self.job: Job | None = None
         self.stats = Stats()
         self.seen_reset = False
-        self.result_log: list[tuple[dict[str, int], dict[str, int]]] = []
+        # With keep_results, the RTL's outputs of every job, in order (for replays).
+        self.result_log: list[list[dict[str, int]]] = []
         self.keep_results = False
         self.completed_at = -2
         inputs = [f"{n}_in" for n in operands] + [f"{n}_we" for n in operands]
@@ -186,6 +187,8 @@ class ProtocolMonitor:
                     self._error(f"start accepted while a job is pending ({pending})")
                 self.job = self.expect(dict(self.shadow))
                 self.stats.jobs_started += 1
+                if self.keep_results:
+                    self.result_log.append([])
                 if self.completed_at == self.stats.cycles - 1:
                     self.stats.back_to_back += 1
             for name in writes:
@@ -253,7 +256,7 @@ class ProtocolMonitor:
         expected = job.results[job.seen]
         got = {name: self._output_value(name, cur[name]) for name in expected}
         if self.keep_results:
-            self.result_log.append((dict(job.operands), got))
+            self.result_log[-1].append(got)
         if got != expected:
             self._error(
                 f"result {job.seen} mismatch: got {got}, model {expected}; "

@@ -42,6 +42,7 @@ def run_bench(
     config: object,
     seed: int | None = None,
     testcase: str | None = None,
+    extra_env: dict[str, str] | None = None,
 ) -> list[dict]:
     """Build ``rtl/<toplevel>.v`` with ``parameters`` and run ``sim/<bench_module>.py``.
 
@@ -67,7 +68,7 @@ def run_bench(
         waves=waves,
         always=True,
     )
-    env = {"BENCH_CONFIG": json.dumps(cfg), "BENCH_SUMMARY": str(summary)}
+    env = {"BENCH_CONFIG": json.dumps(cfg), "BENCH_SUMMARY": str(summary), **(extra_env or {})}
     if seed is None and "BENCH_SEED" in os.environ:
         seed = int(os.environ["BENCH_SEED"])
     if seed is not None:
