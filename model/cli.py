@@ -88,17 +88,12 @@ def demo() -> int:
     print(format_trade())
     print("\n== One RTL run: divider_shift under Icarus, every result against the model ==")
     try:
-        from sim.runner import run_bench
+        from sim.runner import hdl_parameters, run_bench
     except ImportError as exc:  # the dev extra (cocotb) is not installed
-        print(f"skipped: {exc}; run `make demo`, which installs it")
+        print(f"not run: {exc}; `make demo` installs it")
         return 1
     cfg = divider.ARTICLE
-    params = {
-        "A_WIDTH": cfg.a_width,
-        "K_WIDTH": cfg.k_width,
-        "RECIP_BITS": cfg.recip_bits,
-        "ROM_FILE": str(divider.rom_path(cfg)),
-    }
+    params = hdl_parameters(cfg, ROM_FILE=divider.rom_path(cfg))
     records = run_bench(
         "divider_shift", "sim.tb_divider", "divider_demo", params, cfg, testcase="test_extremes"
     )

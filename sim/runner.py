@@ -34,6 +34,17 @@ def require_iverilog() -> None:
         )
 
 
+def hdl_parameters(config: object, **extra: object) -> dict[str, object]:
+    """Verilog parameters of a unit: its config fields in UPPER_CASE (DESIGN.md), plus ``extra``.
+
+    Only int and bool fields become parameters; ``extra`` adds e.g. ``ROM_FILE``.
+    """
+    fields = asdict(config) if is_dataclass(config) else dict(config)
+    params = {k.upper(): int(v) for k, v in fields.items() if isinstance(v, int | bool)}
+    params.update({k: (str(v) if isinstance(v, Path) else v) for k, v in extra.items()})
+    return params
+
+
 def run_bench(
     toplevel: str,
     bench_module: str,
