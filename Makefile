@@ -10,7 +10,7 @@ PYTEST := $(PY) -m pytest
 # Parallel pytest workers for the cocotb regressions (each bench builds in its own folder).
 JOBS   ?= auto
 
-.PHONY: setup tools demo test model-test sim lint roms bench clean
+.PHONY: setup tools demo test model-test sim lint roms synth bench clean
 
 setup: $(STAMP)
 
@@ -41,11 +41,16 @@ lint: setup
 	@scripts/ensure-tools.sh verilator
 	@for f in $(RTL); do verilator --lint-only -Wall $$f || exit 1; done
 	@echo "verilator: $(words $(RTL)) RTL files lint-clean"
-	$(PY) -m ruff check model sim tests
-	$(PY) -m ruff format --check model sim tests
+	$(PY) -m ruff check model sim tests scripts
+	$(PY) -m ruff format --check model sim tests scripts
 
 roms: setup
 	$(PY) -m model roms
+
+# Yosys (iCE40) synthesis of every unit at its default configuration: resource table.
+synth: setup
+	@scripts/ensure-tools.sh yosys
+	$(PY) scripts/synth.py
 
 clean:
 	rm -rf sim_build out .pytest_cache .ruff_cache
