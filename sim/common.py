@@ -31,7 +31,7 @@ from dataclasses import dataclass, field
 
 import cocotb
 from cocotb.clock import Clock
-from cocotb.triggers import ReadOnly, RisingEdge
+from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
 
 from model import fixed
 
@@ -269,16 +269,15 @@ class ProtocolMonitor:
     async def wait_idle(self) -> None:
         """Return at the first rising edge after a cycle with busy = 0.
 
-        It polls ``busy`` itself instead of the monitor's state: cocotb wakes the monitor and
-        the driver in ReadOnly in no fixed order.  It returns right after an edge, so the
-        caller may drive inputs, and the monitor has by then checked the cycle busy fell.
+        It watches ``busy`` itself instead of the monitor's state: cocotb wakes the monitor
+        and the driver in ReadOnly in no fixed order.  It sleeps until busy falls (one trigger
+        per job, not two per cycle) and returns right after the next edge, so the caller may
+        drive inputs, and the monitor has by then checked the cycle busy fell.
         """
-        while True:
-            await ReadOnly()
-            idle = int(self.dut.busy.value) == 0
-            await RisingEdge(self.dut.clk)
-            if idle:
-                return
+        await ReadOnly()
+        if int(self.dut.busy.value):
+            await FallingEdge(self.dut.busy)
+        await RisingEdge(self.dut.clk)
 
     def finish(self, test_name: str) -> Stats:
         """Log the counts, append them to the run's summary file, raise on any error."""
