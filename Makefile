@@ -12,13 +12,17 @@ JOBS   ?= auto
 
 .PHONY: setup tools demo test model-test sim lint roms synth bench clean
 
-setup: $(STAMP)
+setup: $(STAMP) data/teapot.bez
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install -q --upgrade pip
 	$(PY) -m pip install -q -e '.[dev]'
 	touch $(STAMP)
+
+# The Utah teapot's Bezier patches come from Debian's geomview package (not committed).
+data/teapot.bez:
+	scripts/fetch-teapot.sh
 
 tools:
 	@scripts/ensure-tools.sh iverilog vvp
