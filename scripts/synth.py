@@ -17,7 +17,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from model import divider  # noqa: E402
+from model import divider, gouraud  # noqa: E402
 from sim.runner import hdl_parameters  # noqa: E402
 
 
@@ -27,6 +27,7 @@ def unit_parameters() -> dict[str, dict[str, object]]:
         "divider_shift": hdl_parameters(
             divider.DEFAULT, ROM_FILE=divider.rom_path(divider.DEFAULT)
         ),
+        "gouraud_segment": hdl_parameters(gouraud.DEFAULT),
     }
     return units
 
