@@ -69,7 +69,9 @@ def format_trade(k_max: int = 2047, bits: range = range(4, 21)) -> str:
 
 
 def write_roms() -> None:
-    for path in divider.write_roms():
+    from model import specular
+
+    for path in divider.write_roms() + specular.write_roms():
         print(f"wrote {path}")
 
 

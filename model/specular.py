@@ -1,0 +1,923 @@
+"""Specular unit of patent UA 71489 (SEEDS.md section 1): ``I = C * cos^k(a * zeta)`` per pixel.
+
+Blinn's highlight ``cos^n(delta)`` along a scan line becomes, after the float set-up of the
+"external device" (``setup_line``), ``C * cos^n(zeta)`` with an angle ``zeta`` that grows by a
+constant ``dz`` per pixel.  The unit approximates ``cos^n(x) ~ cos^k(a * x)`` with one of a few
+tables of ``cos^k`` (k chosen by a decoder from n) and a per-n scale ``a`` (ROM 9), so it needs
+no power function: per pixel an add, a multiply, a table read and a multiply (fig. 1).
+
+Formats (``SpecularConfig``, every value an integer in units of 2**-f):
+* angles ``dz``, ``z0`` and the accumulator (register 8) in units of pi/2, two's complement,
+  ``z_frac_bits`` fraction bits; ``dz``/``z0`` are ``z_int_bits + z_frac_bits`` wide, the
+  accumulator ``len_width`` bits wider, so ``z0 + l*dz`` cannot wrap for any register values;
+* ``a`` (ROM 9, one word per n = 0..1023): unsigned Q``a_int_bits``.``a_frac_bits``, 0 for
+  invalid n;
+* the scaled angle ``|zeta| * a`` (multiplier 11) is rounded to ``rom_addr_bits`` fraction bits:
+  that is the ROM-12 address inside the table of the decoded k; a value that rounds to 1 (pi/2)
+  or more gives cos^k = 0 (overflow detected, never wrapped);
+* ROM 12 words: ``round(cos^k(i/2**A * pi/2) * 2**D)``, saturated to ``2**D - 1`` (i = 0 would
+  be exactly 2**D); D = ``rom_data_bits``;
+* ``C``: unsigned Q``c_int_bits``.``c_frac_bits`` in output LSBs; the output is
+  ``saturate(round(C * rom12 / 2**(c_frac_bits + D)), 0, 2**out_width - 1)``.
+
+Named steps, in the order the RTL takes them: accumulate (exact), magnitude and saturation of
+``|zeta|`` to ``mag_int_bits`` integer bits (invisible: every clamped value already gives 0),
+multiply by a (exact), round to the address (add half, slice), overflow -> 0, table read,
+multiply by C (exact), round (add half, slice), saturate.
+
+Timing (``cycles``): a line of l intervals keeps ``busy`` high for ``FILL_LATENCY + l`` cycles;
+the l + 1 results come one per clock at offsets ``FILL_LATENCY .. FILL_LATENCY + l`` after the
+start edge, the last one together with busy = 0.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+from numba import njit
+
+from model import fixed, rom
+
+N_WIDTH = 10
+"""Width of the n register and of the decoder: n = 1..1000 needs 10 bits (the patent says 9)."""
+N_MAX = 1000
+FILL_LATENCY = 5
+"""Clock edges from an accepted start to the first valid: acc, |acc|, x a, ROM 12, x C, round."""
+MAX_TABLES = 4
+ALPHA_MODES = ("taylor", "inflection")
+
+PATENT_K_RANGES = ((1, 1, 1), (2, 2, 2), (3, 6, 4), (7, 1000, 16))
+"""The patent's mapping (fig. 13): (n_lo, n_hi, k) -> k = 1, 2, 4, 16."""
+PROTOTYPE_K_RANGES = ((1, 1000, 2),)
+"""The prototype (Abbas, Szirmay-Kalos, Horvath 2000): cos^2 only, a = sqrt(n/2)."""
+
+
+# ==================================================================== float: the approximation
+def epicentre(n: int) -> float:
+    """Inflection point of cos^n: arctan(1/sqrt(n-1)) rad (pi/2 for n = 1)."""
+    return math.pi / 2 if n == 1 else math.atan(1.0 / math.sqrt(n - 1))
+
+
+def alpha_value(n: int, k: int, alpha: str = "taylor") -> float:
+    """The scale a of ``cos^n(d) ~ cos^k(a*d)`` (float).
+
+    ``"taylor"``: a = sqrt(n/k) (equal second Maclaurin terms, the patent).
+    ``"inflection"``: a = arccos(((n-1)/n)^(n/(2k))) / arctan(1/sqrt(n-1)) (the thesis: exact at
+    the inflection point of cos^n); for n = 1 the limit is 1 (pi/2 / pi/2).
+    """
+    if alpha == "taylor":
+        return math.sqrt(n / k)
+    if alpha == "inflection":
+        if n == 1:
+            return 1.0
+        return math.acos(((n - 1) / n) ** (n / (2 * k))) / epicentre(n)
+    raise ValueError(f"alpha = {alpha!r} is out of range: legal modes are {ALPHA_MODES}")
+
+
+def brdf_approx(delta: np.ndarray, n: int, k: int, alpha: str = "taylor") -> np.ndarray:
+    """cos^k(a*delta), 0 once a*delta reaches pi/2 (float, delta in radians, >= 0)."""
+    x = alpha_value(n, k, alpha) * np.abs(np.asarray(delta, dtype=np.float64))
+    return np.cos(np.minimum(x, np.pi / 2)) ** k  # cos(pi/2) is 6e-17 in float, like cos^n
+
+
+def _check_n_k(n: int, k: int) -> None:
+    fixed.check_operand("n", n, 1, N_MAX)
+    fixed.check_operand("k", k, 1, 64)
+
+
+def brdf_max_rel_error(n: int, k: int, alpha: str = "taylor", samples: int = 20001) -> float:
+    """Max |cos^k(a d) - cos^n d| / cos^n d over the epicentre d in [0, arctan(1/sqrt(n-1))].
+
+    ``samples`` equally spaced points (SEEDS.md's independent figures use 20 001).  Points where
+    cos^n is 0 in float (d = pi/2 for n = 1) are left out: the relative error is undefined there.
+    """
+    _check_n_k(n, k)
+    return _brdf_max_rel_error(int(n), int(k), alpha, int(samples))
+
+
+@functools.cache
+def _brdf_max_rel_error(n: int, k: int, alpha: str, samples: int) -> float:
+    d = np.linspace(0.0, epicentre(n), samples)
+    exact = np.cos(d) ** n
+    keep = exact > 0
+    approx = brdf_approx(d[keep], n, k, alpha)
+    return float(np.max(np.abs(approx - exact[keep]) / exact[keep]))
+
+
+def brdf_max_abs_error(n: int, k: int, alpha: str = "taylor", samples: int = 20001) -> float:
+    """Max |cos^k(a d) - max(0, cos d)^n| over the whole range d in [0, pi] (full scale = 1)."""
+    _check_n_k(n, k)
+    d = np.linspace(0.0, np.pi, samples)
+    exact = np.maximum(np.cos(d), 0.0) ** n
+    return float(np.max(np.abs(brdf_approx(d, n, k, alpha) - exact)))
+
+
+def _n_k_pairs(ranges) -> list[tuple[int, int]]:
+    return [(n, k) for lo, hi, k in ranges for n in range(lo, hi + 1)]
+
+
+def _rom9_words(cfg: SpecularConfig) -> np.ndarray:
+    words = np.zeros(1 << N_WIDTH, dtype=np.int64)
+    for n, k in _n_k_pairs(cfg.k_ranges):
+        words[n] = math.floor(alpha_value(n, k, cfg.alpha) * 2**cfg.a_frac_bits + 0.5)
+    return words
+
+
+@dataclass(frozen=True)
+class SpecularConfig:
+    """Formats and table choices of the specular unit (defaults: the patent's unit, 8-bit out).
+
+    Why these defaults:
+    * ``rom_addr_bits`` = 12: the address half-step is pi/2 * 2**-13 = 1.9e-4 rad of the scaled
+      angle; at the edge of the highlight epicentre cos^16 has a relative slope of about 4/rad,
+      so the table adds < 0.1 % to the approximation's own <= 1.09 %;
+    * ``z_frac_bits`` = 26: with dz and z0 rounded to 2**-27, the accumulated angle after
+      l <= 2047 intervals is within 2048 * 2**-27 = 2**-16 (units of pi/2) of the exact
+      z0 + t*gamma; times the largest a (sqrt(1000/16) = 7.9) that is 1.2e-4, half a ROM-12
+      address step (2**-12);
+    * ``a_frac_bits`` = 14: a relative error of a below 2**-15 / 0.66 = 5e-5;
+    * ``rom_data_bits`` = 16: table values to 1.5e-5, far below an 8-bit output LSB;
+    * C: Q8.8, so C up to 255.996 output LSBs with 1/256 resolution.
+    """
+
+    c_int_bits: int = 8  # C register: unsigned integer bits (output LSBs)
+    c_frac_bits: int = 8  # C register: fraction bits
+    z_int_bits: int = 3  # dz, z0: integer bits incl. sign (units of pi/2): [-4, 4)
+    z_frac_bits: int = 26  # dz, z0 and accumulator fraction bits
+    len_width: int = 11  # interval counter: l = 0..2047
+    a_int_bits: int = 3  # ROM 9 word integer bits (a <= sqrt(1000/16) = 7.9)
+    a_frac_bits: int = 14  # ROM 9 word fraction bits
+    rom_addr_bits: int = 12  # ROM 12 address bits per table (fraction bits of the scaled angle)
+    rom_data_bits: int = 16  # ROM 12 word bits
+    out_width: int = 8  # output intensity bits
+    k_ranges: tuple[tuple[int, int, int], ...] = field(default=PATENT_K_RANGES)
+    alpha: str = "taylor"  # "taylor": a = sqrt(n/k); "inflection": exact at the inflection point
+
+    def __post_init__(self) -> None:
+        fixed.check_width("c_int_bits", self.c_int_bits, 1, 16)
+        fixed.check_width("c_frac_bits", self.c_frac_bits, 0, 16)
+        fixed.check_width("z_int_bits", self.z_int_bits, 3, 8)
+        fixed.check_width("z_frac_bits", self.z_frac_bits, 1, 40)
+        fixed.check_width("len_width", self.len_width, 1, 16)
+        fixed.check_width("a_int_bits", self.a_int_bits, 1, 8)
+        fixed.check_width("a_frac_bits", self.a_frac_bits, 1, 24)
+        fixed.check_width("rom_addr_bits", self.rom_addr_bits, 2, 16)
+        fixed.check_width("rom_data_bits", self.rom_data_bits, 2, 24)
+        fixed.check_width("out_width", self.out_width, 1, 16)
+        # JSON (the bench's BENCH_CONFIG) turns the tuples into lists: normalise back.
+        ranges = tuple(tuple(int(v) for v in r) for r in self.k_ranges)
+        object.__setattr__(self, "k_ranges", ranges)
+        _check_k_ranges(ranges)
+        if self.alpha not in ALPHA_MODES:
+            raise ValueError(
+                f"alpha = {self.alpha!r} is out of range: legal modes are {ALPHA_MODES}"
+            )
+        if self.addr_shift < 1:
+            raise ValueError(
+                f"z_frac_bits + a_frac_bits = {self.z_frac_bits + self.a_frac_bits} is out of "
+                f"range: it must exceed rom_addr_bits = {self.rom_addr_bits}"
+            )
+        for name, width in (
+            ("accumulator width z_int_bits + z_frac_bits + len_width", self.acc_width),
+            ("product width", self.mag_width + self.a_width + 1),
+            ("c_int_bits + c_frac_bits + rom_data_bits", self.c_width + self.rom_data_bits + 1),
+        ):
+            if width > fixed.MAX_KERNEL_WIDTH:
+                raise ValueError(
+                    f"{name} = {width} is out of range: at most {fixed.MAX_KERNEL_WIDTH} bits"
+                )
+        a_max = max(alpha_value(n, k, self.alpha) for n, k in _n_k_pairs(ranges))
+        if round(a_max * 2**self.a_frac_bits) >= 1 << self.a_width:
+            raise ValueError(
+                f"a_int_bits = {self.a_int_bits} is out of range: the largest a = {a_max:.4f} "
+                f"needs {math.floor(math.log2(a_max)) + 1} integer bits"
+            )
+
+    # ---------------------------------------------------------------- derived widths
+    @property
+    def c_width(self) -> int:
+        return self.c_int_bits + self.c_frac_bits
+
+    @property
+    def c_format(self) -> fixed.QFormat:
+        return fixed.QFormat(self.c_int_bits, self.c_frac_bits, signed=False)
+
+    @property
+    def z_width(self) -> int:
+        return self.z_int_bits + self.z_frac_bits
+
+    @property
+    def z_format(self) -> fixed.QFormat:
+        return fixed.QFormat(self.z_int_bits, self.z_frac_bits, signed=True)
+
+    @property
+    def acc_width(self) -> int:
+        """Register 8: |z0| + l*|dz| <= 2**(z_int_bits-1) * 2**len_width fits, signed."""
+        return self.z_width + self.len_width
+
+    @property
+    def a_width(self) -> int:
+        return self.a_int_bits + self.a_frac_bits
+
+    @property
+    def len_max(self) -> int:
+        return (1 << self.len_width) - 1
+
+    @property
+    def out_max(self) -> int:
+        return (1 << self.out_width) - 1
+
+    @property
+    def num_tables(self) -> int:
+        return len(self.k_ranges)
+
+    @property
+    def tsel_bits(self) -> int:
+        """High ROM-12 address bits (table select); at least 1 so the RTL never has 0 bits."""
+        return max(1, (self.num_tables - 1).bit_length())
+
+    @property
+    def ks(self) -> tuple[int, ...]:
+        return tuple(r[2] for r in self.k_ranges)
+
+    @property
+    def n_hi(self) -> tuple[int, ...]:
+        return tuple(r[1] for r in self.k_ranges)
+
+    @property
+    def addr_shift(self) -> int:
+        """Bits dropped from the product |zeta| * a to form the ROM-12 address."""
+        return self.z_frac_bits + self.a_frac_bits - self.rom_addr_bits
+
+    @property
+    def mag_int_bits(self) -> int:
+        """Integer bits |zeta| is saturated to before multiplier 11.
+
+        The smallest M such that the clamped value times the smallest a of any valid n still
+        reaches pi/2 (cos^k = 0): clamping then never changes a result, it only narrows the
+        multiplier.  Capped at the accumulator's own integer bits.
+        """
+        return _mag_int_bits(self)
+
+    @property
+    def mag_width(self) -> int:
+        return self.mag_int_bits + self.z_frac_bits
+
+    @property
+    def rom_tag(self) -> str:
+        return "_".join(
+            f"n{lo}-{hi}k{k}" if lo != hi else f"n{lo}k{k}" for lo, hi, k in self.k_ranges
+        )
+
+    @property
+    def a_rom_name(self) -> str:
+        return f"specular_a_{self.alpha}_{self.rom_tag}_q{self.a_int_bits}.{self.a_frac_bits}.hex"
+
+    @property
+    def cos_rom_name(self) -> str:
+        kset = "-".join(str(k) for k in self.ks)
+        return f"specular_cos_k{kset}_a{self.rom_addr_bits}_d{self.rom_data_bits}.hex"
+
+    def hdl_parameters(self) -> dict[str, object]:
+        """The Verilog parameters of ``rtl/specular_unit.v`` for this configuration."""
+        hi = list(self.n_hi) + [N_MAX] * (MAX_TABLES - self.num_tables)
+        return {
+            "C_INT_BITS": self.c_int_bits,
+            "C_FRAC_BITS": self.c_frac_bits,
+            "Z_INT_BITS": self.z_int_bits,
+            "Z_FRAC_BITS": self.z_frac_bits,
+            "LEN_WIDTH": self.len_width,
+            "A_INT_BITS": self.a_int_bits,
+            "A_FRAC_BITS": self.a_frac_bits,
+            "ROM_ADDR_BITS": self.rom_addr_bits,
+            "ROM_DATA_BITS": self.rom_data_bits,
+            "OUT_WIDTH": self.out_width,
+            "NUM_TABLES": self.num_tables,
+            "N_HI0": hi[0],
+            "N_HI1": hi[1],
+            "N_HI2": hi[2],
+            "N_HI3": hi[3],
+            "MAG_INT_BITS": self.mag_int_bits,
+            "A_ROM_FILE": str(rom_path(self, "a")),
+            "COS_ROM_FILE": str(rom_path(self, "cos")),
+        }
+
+
+def _check_k_ranges(ranges: tuple[tuple[int, int, int], ...]) -> None:
+    if not 1 <= len(ranges) <= MAX_TABLES:
+        raise ValueError(
+            f"k_ranges has {len(ranges)} entries: out of range, legal is 1..{MAX_TABLES} "
+            "(the decoder has four outputs)"
+        )
+    expect_lo = 1
+    for r in ranges:
+        if len(r) != 3:
+            raise ValueError(f"k_ranges entry {r!r} must be (n_lo, n_hi, k)")
+        lo, hi, k = r
+        if lo != expect_lo or hi < lo:
+            raise ValueError(
+                f"k_ranges entry {r!r} is out of range: ranges must cover n = 1..{N_MAX} in "
+                f"order without gaps (expected n_lo = {expect_lo}, n_hi >= n_lo)"
+            )
+        if not 1 <= k <= 64:
+            raise ValueError(f"k = {k} is out of range: legal range is 1..64")
+        expect_lo = hi + 1
+    if expect_lo != N_MAX + 1:
+        raise ValueError(
+            f"k_ranges end at n = {expect_lo - 1}: out of range, they must end at n = {N_MAX}"
+        )
+
+
+@functools.cache
+def _mag_int_bits(cfg: SpecularConfig) -> int:
+    a_min = int(_rom9_words(cfg)[1 : N_MAX + 1].min())
+    one = 1 << (cfg.z_frac_bits + cfg.a_frac_bits)
+    cap = cfg.z_int_bits + cfg.len_width - 1
+    m = 0
+    while m < cap and a_min * ((1 << (m + cfg.z_frac_bits)) - 1) < one:
+        m += 1
+    return m
+
+
+DEFAULT = SpecularConfig()
+PROTOTYPE = SpecularConfig(k_ranges=PROTOTYPE_K_RANGES, a_int_bits=5)
+"""The prototype the patent improves on: one cos^2 table, a = sqrt(n/2) (up to 22.4)."""
+INFLECTION = SpecularConfig(alpha="inflection")
+"""The patent's four tables with the thesis's a (exact at the inflection point)."""
+NARROW = SpecularConfig(
+    c_int_bits=6,
+    c_frac_bits=4,
+    z_frac_bits=18,
+    len_width=7,
+    a_frac_bits=10,
+    rom_addr_bits=8,
+    rom_data_bits=10,
+    out_width=6,
+)
+"""A narrow unit (lines up to 127 intervals, 6-bit output, 256-entry tables) for the benches."""
+
+# Configurations whose ROM images are committed under rtl/rom (``make roms``); the benches use them.
+ROM_CONFIGS: dict[str, SpecularConfig] = {
+    "default": DEFAULT,
+    "narrow": NARROW,
+    "prototype": PROTOTYPE,
+    "inflection": INFLECTION,
+}
+
+
+# ==================================================================== decoder and ROMs
+def _table_index(n: np.ndarray, cfg: SpecularConfig) -> np.ndarray:
+    """Index of the k range holding each n (0 for n outside 1..1000, flagged by n_err)."""
+    idx = np.zeros(np.shape(n), dtype=np.int64)
+    for j, (lo, hi, _) in enumerate(cfg.k_ranges):
+        idx = np.where((n >= lo) & (n <= hi), j, idx)
+    return idx
+
+
+def decode_k(n, cfg: SpecularConfig = DEFAULT):
+    """The decoder (block 10): k of the cos^k table used for n = 1..1000 (10-bit n).
+
+    The patent's decoder has 9 inputs n1..n9 "because n = 1..1000", but 1000 needs 10 bits: a
+    9-bit decoder sees n mod 512 and aliases every n >= 512 (see ``decode_k_patent9``).  This
+    unit decodes all 10 bits.
+    """
+    n_arr = fixed.check_operand("n", n, 1, N_MAX)
+    k = np.asarray(cfg.ks, dtype=np.int64)[_table_index(n_arr, cfg)]
+    return int(k) if k.ndim == 0 else k
+
+
+def decode_k_patent9(n, cfg: SpecularConfig = DEFAULT):
+    """What the patent's 9-input decoder would give for a 10-bit n: k of (n mod 512), 0 = none.
+
+    For n >= 512 it answers for n - 512: n = 513 gets the cos table (k = 1) instead of cos^16,
+    and n = 512 gets no table at all.
+    """
+    n_arr = fixed.check_operand("n", n, 0, (1 << N_WIDTH) - 1) & 511
+    k = np.where(n_arr >= 1, np.asarray(cfg.ks, dtype=np.int64)[_table_index(n_arr, cfg)], 0)
+    return int(k) if k.ndim == 0 else k
+
+
+def n_valid(n: int) -> bool:
+    """Whether the unit accepts n (1..1000); otherwise it outputs 0 with n_err = 1."""
+    return 1 <= n <= N_MAX
+
+
+def rom9_words(cfg: SpecularConfig = DEFAULT) -> np.ndarray:
+    """ROM 9: a = round(alpha_value(n, k) * 2**a_frac_bits) for n = 0..1023; 0 for invalid n."""
+    return _rom9_words(cfg)
+
+
+def cos_table(k: int, addr_bits: int, data_bits: int) -> np.ndarray:
+    """One ROM-12 table: round(cos^k(i/2**A * pi/2) * 2**D) saturated to 2**D - 1, i < 2**A."""
+    x = np.arange(1 << addr_bits, dtype=np.float64) * (np.pi / 2) / 2**addr_bits
+    words = np.floor(np.cos(x) ** k * 2.0**data_bits + 0.5).astype(np.int64)
+    return np.minimum(words, (1 << data_bits) - 1)
+
+
+def rom12_words(cfg: SpecularConfig = DEFAULT) -> np.ndarray:
+    """ROM 12: the tables of cfg.ks one after the other (address = {table, angle}), 0-padded
+    to 2**tsel_bits tables."""
+    size = 1 << cfg.rom_addr_bits
+    words = np.zeros(size << cfg.tsel_bits, dtype=np.int64)
+    for j, k in enumerate(cfg.ks):
+        words[j * size : (j + 1) * size] = cos_table(k, cfg.rom_addr_bits, cfg.rom_data_bits)
+    return words
+
+
+def rom_text(cfg: SpecularConfig = DEFAULT, which: str = "a") -> str:
+    """The ``$readmemh`` image of ROM 9 (``which="a"``) or ROM 12 (``which="cos"``)."""
+    ranges = ", ".join(f"{lo}..{hi} -> k = {k}" for lo, hi, k in cfg.k_ranges)
+    if which == "a":
+        header = (
+            f"specular_unit ROM 9: a(n) for n = 0..{(1 << N_WIDTH) - 1} ({cfg.alpha}), "
+            f"unsigned Q{cfg.a_int_bits}.{cfg.a_frac_bits}\n"
+            f"k ranges: {ranges}; invalid n (0, >{N_MAX}) hold 0. Generated by model.specular."
+        )
+        return rom.format_hex(rom9_words(cfg), cfg.a_width, header)
+    if which == "cos":
+        header = (
+            f"specular_unit ROM 12: cos^k(i/2^{cfg.rom_addr_bits} * pi/2) * 2^{cfg.rom_data_bits}"
+            f" (saturated), tables k = {', '.join(map(str, cfg.ks))}\n"
+            f"address = {{table ({cfg.tsel_bits} bits), i ({cfg.rom_addr_bits} bits)}}; "
+            "unused tables hold 0. Generated by model.specular."
+        )
+        return rom.format_hex(rom12_words(cfg), cfg.rom_data_bits, header)
+    raise ValueError(f"which = {which!r} is out of range: legal are 'a', 'cos'")
+
+
+def rom_path(cfg: SpecularConfig = DEFAULT, which: str = "a") -> Path:
+    if which not in ("a", "cos"):
+        raise ValueError(f"which = {which!r} is out of range: legal are 'a', 'cos'")
+    return rom.ROM_DIR / (cfg.a_rom_name if which == "a" else cfg.cos_rom_name)
+
+
+def write_roms() -> list[Path]:
+    """Write ROM 9 and ROM 12 of every configuration in ``ROM_CONFIGS`` to rtl/rom/."""
+    paths = []
+    for cfg in ROM_CONFIGS.values():
+        for which in ("a", "cos"):
+            path = rom_path(cfg, which)
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text(rom_text(cfg, which))
+            paths.append(path)
+    return list(dict.fromkeys(paths))
+
+
+# ==================================================================== the bit-exact datapath
+@njit(cache=True)
+def _accumulate(dz: int, z0: int, length: int, acc: np.ndarray) -> None:
+    """Adder 6 + multiplexer 7 + register 8: acc[0] = z0, acc[i] = acc[i-1] + dz (exact)."""
+    value = z0
+    for i in range(length + 1):
+        if i > 0:
+            value += dz
+        acc[i] = value
+
+
+@njit(cache=True)
+def _rom12_word(
+    acc: int, a_word: int, tsel: int, rom12: np.ndarray, mag_max: int, shift: int, addr_bits: int
+) -> int:
+    """|acc| (saturated), x a (multiplier 11), rounded to the address, ROM 12; 0 from pi/2 on."""
+    mag = fixed.saturate(abs(acc), 0, mag_max)
+    prod = mag * a_word
+    addr = fixed.round_shift(prod, shift)
+    if addr >= (1 << addr_bits):
+        return 0
+    return rom12[(tsel << addr_bits) | addr]
+
+
+@njit(cache=True)
+def _pixels(
+    acc: np.ndarray,
+    c: int,
+    a_word: int,
+    tsel: int,
+    rom12: np.ndarray,
+    mag_max: int,
+    shift: int,
+    addr_bits: int,
+    out_shift: int,
+    out_max: int,
+    out: np.ndarray,
+) -> None:
+    """Per pixel: the ROM-12 word, x C (multiplier 13), round, saturate."""
+    for i in range(acc.size):
+        word = _rom12_word(acc[i], a_word, tsel, rom12, mag_max, shift, addr_bits)
+        out[i] = fixed.saturate(fixed.round_shift(c * word, out_shift), 0, out_max)
+
+
+@njit(cache=True)
+def _rom12_path(
+    acc: np.ndarray,
+    a_word: int,
+    tsel: int,
+    rom12: np.ndarray,
+    mag_max: int,
+    shift: int,
+    addr_bits: int,
+    out: np.ndarray,
+) -> None:
+    for i in range(acc.size):
+        out[i] = _rom12_word(acc[i], a_word, tsel, rom12, mag_max, shift, addr_bits)
+
+
+class _Tables:
+    """ROM contents and derived constants of one configuration, computed once."""
+
+    def __init__(self, cfg: SpecularConfig) -> None:
+        self.rom9 = rom9_words(cfg)
+        self.rom12 = rom12_words(cfg)
+        self.mag_max = (1 << cfg.mag_width) - 1
+        self.tsel = np.zeros(1 << N_WIDTH, dtype=np.int64)
+        self.tsel[1 : N_MAX + 1] = _table_index(np.arange(1, N_MAX + 1), cfg)
+
+
+_TABLES: dict[SpecularConfig, _Tables] = {}
+
+
+def _tables(cfg: SpecularConfig) -> _Tables:
+    if cfg not in _TABLES:
+        _TABLES[cfg] = _Tables(cfg)
+    return _TABLES[cfg]
+
+
+def _check_line(c, dz, z0, length, cfg: SpecularConfig) -> tuple[int, int, int, int]:
+    c_i = int(fixed.check_operand("c", c, 0, cfg.c_format.hi))
+    z_lo, z_hi = cfg.z_format.lo, cfg.z_format.hi
+    dz_i = int(fixed.check_operand("dz", dz, z_lo, z_hi))
+    z0_i = int(fixed.check_operand("z0", z0, z_lo, z_hi))
+    len_i = int(fixed.check_operand("length", length, 0, cfg.len_max))
+    return c_i, dz_i, z0_i, len_i
+
+
+def line_angles(dz: int, z0: int, length: int, cfg: SpecularConfig = DEFAULT) -> np.ndarray:
+    """The accumulator (register 8) for each of the l+1 pixels, units of 2**-z_frac_bits * pi/2."""
+    _, dz_i, z0_i, len_i = _check_line(0, dz, z0, length, cfg)
+    acc = np.empty(len_i + 1, dtype=np.int64)
+    _accumulate(dz_i, z0_i, len_i, acc)
+    return acc
+
+
+def _run_line(c: int, dz: int, z0: int, n: int, length: int, cfg: SpecularConfig) -> np.ndarray:
+    t = _tables(cfg)
+    acc = np.empty(length + 1, dtype=np.int64)
+    _accumulate(dz, z0, length, acc)
+    out = np.empty(length + 1, dtype=np.int64)
+    _pixels(
+        acc,
+        c,
+        int(t.rom9[n]),
+        int(t.tsel[n]),
+        t.rom12,
+        t.mag_max,
+        cfg.addr_shift,
+        cfg.rom_addr_bits,
+        cfg.c_frac_bits + cfg.rom_data_bits,
+        cfg.out_max,
+        out,
+    )
+    return out
+
+
+def shade_line(c, dz, z0, n, length, cfg: SpecularConfig = DEFAULT) -> np.ndarray:
+    """The l+1 output intensities of one line, bit-exact with ``rtl/specular_unit.v``.
+
+    ``c``: C register (unsigned, ``c_frac_bits`` fraction bits, in output LSBs); ``dz``, ``z0``:
+    angle registers (signed, units of pi/2 * 2**-z_frac_bits); ``n``: 1..1000; ``length``: the
+    number of intervals l (0..2**len_width - 1).  Raises ``ValueError`` for anything outside.
+    """
+    c_i, dz_i, z0_i, len_i = _check_line(c, dz, z0, length, cfg)
+    n_i = int(fixed.check_operand("n", n, 1, N_MAX))
+    return _run_line(c_i, dz_i, z0_i, n_i, len_i, cfg)
+
+
+def unit_line(c, dz, z0, n, length, cfg: SpecularConfig = DEFAULT) -> tuple[np.ndarray, int]:
+    """What the RTL does for any 10-bit n: (intensities, n_err).
+
+    For n = 1..1000 this is ``(shade_line(...), 0)``; for n = 0 and n = 1001..1023 the line has
+    the same l+1 results at the same cycles, every one 0 with ``n_err`` = 1.
+    """
+    c_i, dz_i, z0_i, len_i = _check_line(c, dz, z0, length, cfg)
+    n_i = int(fixed.check_operand("n", n, 0, (1 << N_WIDTH) - 1))
+    if not n_valid(n_i):
+        return np.zeros(len_i + 1, dtype=np.int64), 1
+    return _run_line(c_i, dz_i, z0_i, n_i, len_i, cfg), 0
+
+
+def cycles(length, cfg: SpecularConfig = DEFAULT) -> int:
+    """Clock cycles ``busy`` is high for a line of l intervals: FILL_LATENCY + l.
+
+    The l+1 valid strobes come at ``valid_offsets``; the last one in the first cycle busy is 0,
+    when a new start is already accepted: back-to-back lines take l + FILL_LATENCY + 1 clocks.
+    """
+    return FILL_LATENCY + int(fixed.check_operand("length", length, 0, cfg.len_max))
+
+
+def valid_offsets(length, cfg: SpecularConfig = DEFAULT) -> list[int]:
+    """Cycle offsets of the valid strobes (0 = the cycle right after the start edge)."""
+    len_i = int(fixed.check_operand("length", length, 0, cfg.len_max))
+    return list(range(FILL_LATENCY, FILL_LATENCY + len_i + 1))
+
+
+# ==================================================================== float set-up (host)
+_EPS = 1e-12
+
+
+@dataclass(frozen=True)
+class LineSetup:
+    """The external device's result for one line: float values and the register words."""
+
+    gamma: float  # angle between H1 and H2' (rad)
+    lam: float  # lambda (rad), chosen so the line's angles lie in [-3pi/2, 3pi/2]
+    amp: float  # A = max of N1.H on the great circle (>= 0)
+    c: float  # C = light * (2**out_width - 1) * A**n, output LSBs
+    dz: float  # gamma / l in units of pi/2 (0 for l = 0)
+    z0: float  # -lambda in units of pi/2
+    c_reg: int
+    dz_reg: int
+    z0_reg: int
+    n: int
+    length: int
+
+    def registers(self) -> dict[str, int]:
+        """The operand registers of the unit: c, dz, z0, n, len."""
+        return {
+            "c": self.c_reg,
+            "dz": self.dz_reg,
+            "z0": self.z0_reg,
+            "n": self.n,
+            "len": self.length,
+        }
+
+
+def _unit_vector(name: str, v) -> np.ndarray:
+    arr = np.asarray(v, dtype=np.float64)
+    if arr.shape != (3,) or not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} = {v!r} is out of range: legal is a finite 3-vector")
+    norm = float(np.linalg.norm(arr))
+    if norm < _EPS:
+        raise ValueError(f"{name} = {v!r} is out of range: legal is a non-zero 3-vector")
+    return arr / norm
+
+
+def _perpendicular(v: np.ndarray) -> np.ndarray:
+    """A fixed unit vector perpendicular to v: v x e, e the coordinate axis least aligned with v."""
+    e = np.zeros(3)
+    e[int(np.argmin(np.abs(v)))] = 1.0
+    p = np.cross(v, e)
+    return p / np.linalg.norm(p)
+
+
+def rotation_onto(src: np.ndarray, dst: np.ndarray) -> np.ndarray:
+    """The rotation matrix taking unit vector src onto dst (Rodrigues, axis src x dst).
+
+    src = dst: identity.  src = -dst (axis undefined): the half turn about the fixed
+    perpendicular ``_perpendicular(dst)``.
+    """
+    axis = np.cross(src, dst)
+    s = float(np.linalg.norm(axis))
+    c = float(np.dot(src, dst))
+    if s < _EPS:
+        if c > 0:
+            return np.eye(3)
+        u = _perpendicular(dst)
+        return 2.0 * np.outer(u, u) - np.eye(3)
+    kx, ky, kz = axis / s
+    kmat = np.array([[0.0, -kz, ky], [kz, 0.0, -kx], [-ky, kx, 0.0]])
+    return np.eye(3) + s * kmat + (1.0 - c) * (kmat @ kmat)
+
+
+def half_vector_path(n1, n2, h1, h2) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """(N1, H1, W, gamma): along the line H(t) = H1 cos(t gamma) + W sin(t gamma), N = N1.
+
+    H2' = H2 rotated by the rotation taking N2 onto N1; gamma = angle(H1, H2'); W the unit vector
+    perpendicular to H1 towards H2'.  gamma -> 0: W = 0 (H is constant).  gamma -> pi (H2' =
+    -H1, the great circle undefined): W = the part of N1 perpendicular to H1 (the path passes the
+    highlight's peak), or a fixed perpendicular if N1 is parallel to H1.
+    """
+    n1u, n2u = _unit_vector("n1", n1), _unit_vector("n2", n2)
+    h1u, h2u = _unit_vector("h1", h1), _unit_vector("h2", h2)
+    h2r = rotation_onto(n2u, n1u) @ h2u
+    cg = float(np.dot(h1u, h2r))
+    w = h2r - cg * h1u
+    sg = float(np.linalg.norm(w))
+    if sg >= 1e-9:
+        return n1u, h1u, w / sg, math.atan2(sg, cg)
+    if cg > 0:
+        return n1u, h1u, np.zeros(3), 0.0
+    w = n1u - float(np.dot(n1u, h1u)) * h1u
+    wn = float(np.linalg.norm(w))
+    w = w / wn if wn >= 1e-9 else _perpendicular(h1u)
+    return n1u, h1u, w, math.pi
+
+
+def setup_line(
+    n1, n2, h1, h2, n: int, light: float, length: int, cfg: SpecularConfig = DEFAULT
+) -> LineSetup:
+    """The float "external device": register values of one line from its end vectors.
+
+    ``n1``, ``h1``: normal and half-vector at the start pixel; ``n2``, ``h2`` at the end pixel
+    (normalised here); ``n`` the specular exponent; ``light`` = I_l * k_s (1 = full scale);
+    ``length`` the number of intervals l.  N.H(t) = A cos(t gamma - lambda) along the line, so
+    I = C cos^n(zeta) with C = light * (2**out_width - 1) * A**n, zeta(0) = -lambda and
+    dz = gamma / l.
+
+    With N.W the component of N1 along the path's direction W, A = hypot(cos theta1, N.W) and
+    lambda = atan2(N.W, cos theta1): the patent's lambda = arctan P and A = cos theta1 / cos lambda
+    whenever cos theta1 > 0, and still defined when cos theta1 <= 0.  lambda is then moved by
+    2 pi so that the middle of the line's angles lies in (-pi, pi]: every angle of the line is
+    in [-3pi/2, 3pi/2], where cos > 0 exactly for |zeta| < pi/2, the range the unit lights.
+    Degenerate cases (each gives finite registers, never NaN): gamma -> 0 (constant H: dz = 0),
+    gamma -> pi and N1 = -N2 (see ``half_vector_path`` and ``rotation_onto``), cos theta1 <= 0
+    (A, lambda from atan2; A = 0 gives C = 0), l = 0 (dz = 0, one pixel).  C beyond the C
+    register saturates.
+    """
+    n_i = int(fixed.check_operand("n", n, 1, N_MAX))
+    len_i = int(fixed.check_operand("length", length, 0, cfg.len_max))
+    if not isinstance(light, int | float | np.floating) or not math.isfinite(light) or light < 0:
+        raise ValueError(f"light = {light!r} is out of range: legal is a finite value >= 0")
+    n1u, h1u, w, gamma = half_vector_path(n1, n2, h1, h2)
+    cos1 = float(np.dot(n1u, h1u))
+    nw = float(np.dot(n1u, w))
+    amp = min(1.0, math.hypot(cos1, nw))
+    lam = math.atan2(nw, cos1)
+    if gamma / 2 - lam > math.pi:
+        lam += 2 * math.pi
+    c_real = float(light) * cfg.out_max * amp**n_i
+    dz_real = (gamma / len_i) / (math.pi / 2) if len_i > 0 else 0.0
+    z0_real = -lam / (math.pi / 2)
+    return LineSetup(
+        gamma=gamma,
+        lam=lam,
+        amp=amp,
+        c=c_real,
+        dz=dz_real,
+        z0=z0_real,
+        c_reg=int(cfg.c_format.quantise(c_real)),
+        dz_reg=int(cfg.z_format.quantise(dz_real)),
+        z0_reg=int(cfg.z_format.quantise(z0_real)),
+        n=n_i,
+        length=len_i,
+    )
+
+
+def blinn_line(n1, n2, h1, h2, n: int, light: float, length: int, out_max: int = 255) -> np.ndarray:
+    """Float reference: light * out_max * max(0, N1.H(t))**n at the l+1 pixels, H(t) on the
+    great circle of ``half_vector_path`` (vector arithmetic, no lambda or A involved)."""
+    n1u, h1u, w, gamma = half_vector_path(n1, n2, h1, h2)
+    t = np.arange(length + 1) / length if length > 0 else np.zeros(1)
+    h = np.outer(np.cos(t * gamma), h1u) + np.outer(np.sin(t * gamma), w)
+    return light * out_max * np.maximum(h @ n1u, 0.0) ** n
+
+
+# ==================================================================== fixed-point accuracy
+@dataclass(frozen=True)
+class Accuracy:
+    """Accuracy of one configuration for every n = 1..1000 (arrays indexed n - 1)."""
+
+    float_rel: np.ndarray  # the float approximation cos^k(a d) vs cos^n d, epicentre
+    rom_rel: np.ndarray  # the ROM-12 path (fixed-point angle, a, address, table) vs cos^n
+    out_lsb_exact: np.ndarray  # output vs C*max(0,cos)^n, C full scale, zeta in [0, 2] (LSBs)
+    out_lsb_approx: np.ndarray  # output vs the float approximation C*cos^k(a*zeta) (LSBs)
+
+
+REL_FLOOR = 1.0 / 255
+"""The relative error of the ROM-12 path is taken where cos^n >= 1/255 (one 8-bit level): only
+n = 1's epicentre (the whole quadrant, down to cos = 0) reaches below it."""
+
+
+def fixed_point_accuracy(cfg: SpecularConfig = DEFAULT, samples: int = 4097) -> Accuracy:
+    """Measure the unit against float cos^n for every n (``samples`` angles per n and range)."""
+    t = _tables(cfg)
+    scale = 2.0**cfg.z_frac_bits
+    c_full = cfg.out_max << cfg.c_frac_bits
+    out_shift = cfg.c_frac_bits + cfg.rom_data_bits
+    float_rel = np.empty(N_MAX)
+    rom_rel = np.empty(N_MAX)
+    out_exact = np.empty(N_MAX)
+    out_approx = np.empty(N_MAX)
+    z_all = np.unique(np.floor(np.linspace(0.0, 2.0, 2 * samples) * scale + 0.5).astype(np.int64))
+    zeta_all = z_all / scale * (np.pi / 2)
+    for n in range(1, N_MAX + 1):
+        k = int(cfg.ks[t.tsel[n]])
+        a_word, tsel = int(t.rom9[n]), int(t.tsel[n])
+        float_rel[n - 1] = brdf_max_rel_error(n, k, cfg.alpha)
+        z = np.unique(np.floor(np.linspace(0.0, epicentre(n) / (np.pi / 2), samples) * scale + 0.5))
+        z = z.astype(np.int64)
+        zeta = z / scale * (np.pi / 2)
+        exact = np.cos(zeta) ** n
+        words = np.empty(z.size, dtype=np.int64)
+        _rom12_path(z, a_word, tsel, t.rom12, t.mag_max, cfg.addr_shift, cfg.rom_addr_bits, words)
+        keep = exact >= REL_FLOOR
+        rom_rel[n - 1] = np.max(
+            np.abs(words[keep] / 2.0**cfg.rom_data_bits - exact[keep]) / exact[keep]
+        )
+        out = np.empty(z_all.size, dtype=np.int64)
+        _pixels(
+            z_all,
+            c_full,
+            a_word,
+            tsel,
+            t.rom12,
+            t.mag_max,
+            cfg.addr_shift,
+            cfg.rom_addr_bits,
+            out_shift,
+            cfg.out_max,
+            out,
+        )
+        ref_exact = cfg.out_max * np.maximum(np.cos(zeta_all), 0.0) ** n
+        ref_approx = cfg.out_max * brdf_approx(zeta_all, n, k, cfg.alpha)
+        out_exact[n - 1] = np.max(np.abs(out - ref_exact))
+        out_approx[n - 1] = np.max(np.abs(out - ref_approx))
+    return Accuracy(float_rel, rom_rel, out_exact, out_approx)
+
+
+# ==================================================================== report tables (README)
+N_RANGES = ((1, 1), (2, 2), (3, 6), (7, 7), (8, 1000), (1000, 1000))
+
+
+def _worst(values: np.ndarray, lo: int, hi: int) -> tuple[float, int]:
+    part = values[lo - 1 : hi]
+    i = int(np.argmax(part))
+    return float(part[i]), lo + i
+
+
+def float_errors(cfg: SpecularConfig = DEFAULT) -> np.ndarray:
+    """brdf_max_rel_error of the configuration's mapping (its k and alpha) for n = 1..1000."""
+    ks = decode_k(np.arange(1, N_MAX + 1), cfg)
+    return np.array([brdf_max_rel_error(n, int(k), cfg.alpha) for n, k in enumerate(ks, 1)])
+
+
+def format_brdf_table() -> str:
+    """The float approximation's worst relative error in the epicentre, per n range (markdown)."""
+    taylor = float_errors(DEFAULT)
+    infl = float_errors(INFLECTION)
+    lines = [
+        "| n | k | a = sqrt(n/k) (patent): worst | at n | a exact at the inflection point "
+        "(thesis): worst | at n |",
+        "|---|---|---|---|---|---|",
+    ]
+    for lo, hi in N_RANGES:
+        k = decode_k(lo)
+        (t, tn), (f, fn) = _worst(taylor, lo, hi), _worst(infl, lo, hi)
+        rng = str(lo) if lo == hi else f"{lo}..{hi}"
+        lines.append(f"| {rng} | {k} | {100 * t:.2f} % | {tn} | {100 * f:.2f} % | {fn} |")
+    lines += ["", "| single table | a | worst over n | at n |", "|---|---|---|---|"]
+    for label, k, alpha, lo in (
+        ("cos (prototype's k = 1)", 1, "taylor", 2),
+        ("cos^2 (prototype)", 2, "taylor", 3),
+        ("cos^2", 2, "inflection", 3),
+        ("cos^3", 3, "taylor", 4),
+        ("cos^3", 3, "inflection", 4),
+        ("cos^16", 16, "taylor", 17),
+        ("cos^16", 16, "inflection", 17),
+    ):
+        errs = np.array([brdf_max_rel_error(n, k, alpha) for n in range(lo, N_MAX + 1)])
+        i = int(np.argmax(errs))
+        lines.append(f"| {label} | {alpha} | {100 * errs[i]:.3f} % | {lo + i} |")
+    return "\n".join(lines)
+
+
+def format_accuracy_table(cfg: SpecularConfig = DEFAULT, acc: Accuracy | None = None) -> str:
+    """The fixed-point unit against float cos^n, per n range (markdown)."""
+    acc = fixed_point_accuracy(cfg) if acc is None else acc
+    lines = [
+        "| n | float approximation (epicentre) | ROM-12 path vs cos^n (epicentre) "
+        "| output vs C cos^n (LSB) | output vs C cos^k(a d) (LSB) |",
+        "|---|---|---|---|---|",
+    ]
+    for lo, hi in N_RANGES:
+        rng = str(lo) if lo == hi else f"{lo}..{hi}"
+        cells = [
+            f"{100 * _worst(acc.float_rel, lo, hi)[0]:.3f} %",
+            f"{100 * _worst(acc.rom_rel, lo, hi)[0]:.3f} %",
+            f"{_worst(acc.out_lsb_exact, lo, hi)[0]:.3f}",
+            f"{_worst(acc.out_lsb_approx, lo, hi)[0]:.3f}",
+        ]
+        lines.append(f"| {rng} | " + " | ".join(cells) + " |")
+    return "\n".join(lines)
+
+
+def format_config_table(accs: dict[str, Accuracy]) -> str:
+    """Worst figures over n = 1..1000 for several configurations (markdown)."""
+    lines = [
+        "| config | tables | ROM 12 | worst ROM-12 path vs cos^n (n >= 2) | at n "
+        "| worst output vs C cos^n (LSB) | worst output vs C cos^k(a d) (LSB) |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for name, acc in accs.items():
+        cfg = ROM_CONFIGS[name]
+        rom_worst, rom_n = _worst(acc.rom_rel, 2, N_MAX)
+        lines.append(
+            f"| {name} | k = {', '.join(map(str, cfg.ks))} ({cfg.alpha}) "
+            f"| {cfg.num_tables} x 2^{cfg.rom_addr_bits} x {cfg.rom_data_bits} bits "
+            f"| {100 * rom_worst:.3f} % | {rom_n} | {acc.out_lsb_exact.max():.3f} "
+            f"| {acc.out_lsb_approx.max():.3f} |"
+        )
+    return "\n".join(lines)
