@@ -12,7 +12,7 @@ from __future__ import annotations
 import argparse
 import sys
 
-from model import divider
+from model import divider, specular
 
 
 def divider_table1(recip_bits: int = 8, dividend: int = 255) -> list[dict]:
@@ -69,8 +69,6 @@ def format_trade(k_max: int = 2047, bits: range = range(4, 21)) -> str:
 
 
 def write_roms() -> None:
-    from model import specular
-
     for path in divider.write_roms() + specular.write_roms():
         print(f"wrote {path}")
 

@@ -420,14 +420,16 @@ def pack_mask(mask) -> int:
 # ------------------------------------------------------------------------------------------------
 # The RTL's view: cycles and per-valid outputs, length 0 included
 # ------------------------------------------------------------------------------------------------
-def cycles(length: int, cfg: GouraudConfig = DEFAULT) -> int:
+def cycles(length, cfg: GouraudConfig = DEFAULT):
     """Clock cycles ``busy`` is high for a line: ceil(length / P), 1 for length 0.
 
     ``valid`` follows one cycle behind (``valid_offsets``); the last segment comes out with
     busy = 0, and a new start is accepted in that cycle: one line every ``cycles + 1`` clocks.
+    Takes an int or an array of lengths (then returns an array).
     """
-    length = int(fixed.check_operand("length", length, 0, cfg.len_max))
-    return segment_count(length, cfg.p)
+    arr = fixed.check_operand("length", length, 0, cfg.len_max)
+    c = np.maximum(1, -(-arr // cfg.p))  # segment_count, vectorised
+    return int(c) if c.ndim == 0 else c
 
 
 def valid_offsets(length: int, cfg: GouraudConfig = DEFAULT) -> list[int]:

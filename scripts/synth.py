@@ -17,7 +17,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from model import divider, gouraud  # noqa: E402
+from model import divider, gouraud, specular  # noqa: E402
 from sim.runner import hdl_parameters  # noqa: E402
 
 
@@ -28,6 +28,7 @@ def unit_parameters() -> dict[str, dict[str, object]]:
             divider.DEFAULT, ROM_FILE=divider.rom_path(divider.DEFAULT)
         ),
         "gouraud_segment": hdl_parameters(gouraud.DEFAULT),
+        "specular_unit": hdl_parameters(specular.DEFAULT),
     }
     return units
 

@@ -31,12 +31,14 @@ from dataclasses import dataclass, field
 
 import cocotb
 from cocotb.clock import Clock
-from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge
+from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, with_timeout
 
 from model import fixed
 
 CLOCK_NS = 10
 MAX_REPORTED = 10
+# Longer than any legal job: a 2047-interval specular line is 2052 cycles, the slowest.
+WATCHDOG_CYCLES = 10_000
 
 
 @dataclass
@@ -276,7 +278,9 @@ class ProtocolMonitor:
         """
         await ReadOnly()
         if int(self.dut.busy.value):
-            await FallingEdge(self.dut.busy)
+            # A busy that never falls fails the test instead of hanging it (no legal job of
+            # any unit takes WATCHDOG_CYCLES; the monitor has reported the busy error by then).
+            await with_timeout(FallingEdge(self.dut.busy), WATCHDOG_CYCLES * CLOCK_NS, "ns")
         await RisingEdge(self.dut.clk)
 
     def finish(self, test_name: str) -> Stats:

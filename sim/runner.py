@@ -37,10 +37,15 @@ def require_iverilog() -> None:
 def hdl_parameters(config: object, **extra: object) -> dict[str, object]:
     """Verilog parameters of a unit: its config fields in UPPER_CASE (DESIGN.md), plus ``extra``.
 
-    Only int and bool fields become parameters; ``extra`` adds e.g. ``ROM_FILE``.
+    Only int and bool fields become parameters; ``extra`` adds e.g. ``ROM_FILE``.  A config
+    whose parameters are not just its fields (the specular unit's k-set, ROM files) says so
+    with its own ``hdl_parameters()`` method, which is used instead.
     """
-    fields = asdict(config) if is_dataclass(config) else dict(config)
-    params = {k.upper(): int(v) for k, v in fields.items() if isinstance(v, int | bool)}
+    if hasattr(config, "hdl_parameters"):
+        params = dict(config.hdl_parameters())
+    else:
+        fields = asdict(config) if is_dataclass(config) else dict(config)
+        params = {k.upper(): int(v) for k, v in fields.items() if isinstance(v, int | bool)}
     params.update({k: (str(v) if isinstance(v, Path) else v) for k, v in extra.items()})
     return params
 
