@@ -609,13 +609,15 @@ def unit_line(c, dz, z0, n, length, cfg: SpecularConfig = DEFAULT) -> tuple[np.n
     return _run_line(c_i, dz_i, z0_i, n_i, len_i, cfg), 0
 
 
-def cycles(length, cfg: SpecularConfig = DEFAULT) -> int:
+def cycles(length, cfg: SpecularConfig = DEFAULT):
     """Clock cycles ``busy`` is high for a line of l intervals: FILL_LATENCY + l.
 
     The l+1 valid strobes come at ``valid_offsets``; the last one in the first cycle busy is 0,
     when a new start is already accepted: back-to-back lines take l + FILL_LATENCY + 1 clocks.
+    Takes an int or an array of interval counts (then returns an array).
     """
-    return FILL_LATENCY + int(fixed.check_operand("length", length, 0, cfg.len_max))
+    c = FILL_LATENCY + fixed.check_operand("length", length, 0, cfg.len_max)
+    return int(c) if c.ndim == 0 else c
 
 
 def valid_offsets(length, cfg: SpecularConfig = DEFAULT) -> list[int]:
@@ -665,31 +667,104 @@ def _unit_vector(name: str, v) -> np.ndarray:
     return arr / norm
 
 
+@njit(cache=True)
+def _dot3(a: np.ndarray, b: np.ndarray) -> float:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@njit(cache=True)
+def _cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.array(
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    )
+
+
+@njit(cache=True)
 def _perpendicular(v: np.ndarray) -> np.ndarray:
     """A fixed unit vector perpendicular to v: v x e, e the coordinate axis least aligned with v."""
     e = np.zeros(3)
     e[int(np.argmin(np.abs(v)))] = 1.0
-    p = np.cross(v, e)
-    return p / np.linalg.norm(p)
+    p = _cross3(v, e)
+    return p / np.sqrt(_dot3(p, p))
+
+
+@njit(cache=True)
+def _rotate_onto(src: np.ndarray, dst: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """v rotated by the rotation taking unit vector src onto dst (Rodrigues, axis src x dst).
+
+    R v = c v + s (k x v) + (1 - c) k (k . v).  src = dst: identity.  src = -dst (axis
+    undefined): the half turn about the fixed perpendicular ``_perpendicular(dst)``.
+    """
+    axis = _cross3(src, dst)
+    s = np.sqrt(_dot3(axis, axis))
+    c = _dot3(src, dst)
+    if s < _EPS:
+        if c > 0:
+            return v.copy()
+        u = _perpendicular(dst)
+        return 2.0 * _dot3(u, v) * u - v
+    k = axis / s
+    return c * v + s * _cross3(k, v) + (1.0 - c) * _dot3(k, v) * k
+
+
+@njit(cache=True)
+def _path(n1: np.ndarray, n2: np.ndarray, h1: np.ndarray, h2: np.ndarray):
+    """(W, gamma) of ``half_vector_path`` for unit vectors."""
+    h2r = _rotate_onto(n2, n1, h2)
+    cg = _dot3(h1, h2r)
+    w = h2r - cg * h1
+    sg = np.sqrt(_dot3(w, w))
+    if sg >= 1e-9:
+        return w / sg, np.arctan2(sg, cg)
+    if cg > 0:
+        return np.zeros(3), 0.0
+    w = n1 - _dot3(n1, h1) * h1
+    wn = np.sqrt(_dot3(w, w))
+    if wn >= 1e-9:
+        return w / wn, np.pi
+    return _perpendicular(h1), np.pi
+
+
+@njit(cache=True)
+def _setup_kernel(
+    n1: np.ndarray,
+    n2: np.ndarray,
+    h1: np.ndarray,
+    h2: np.ndarray,
+    n: np.ndarray,
+    light: np.ndarray,
+    length: np.ndarray,
+    out_max: int,
+    out: np.ndarray,
+) -> None:
+    """The external device for each row (unit vectors): out[i] = gamma, lambda, A, C, dz, z0.
+
+    See ``setup_line`` for the formulas and the degenerate cases.
+    """
+    for i in range(n.size):
+        w, gamma = _path(n1[i], n2[i], h1[i], h2[i])
+        cos1 = _dot3(n1[i], h1[i])
+        nw = _dot3(n1[i], w)
+        amp = min(1.0, np.hypot(cos1, nw))
+        lam = np.arctan2(nw, cos1)
+        if gamma / 2 - lam > np.pi:
+            lam += 2 * np.pi
+        out[i, 0] = gamma
+        out[i, 1] = lam
+        out[i, 2] = amp
+        out[i, 3] = light[i] * out_max * amp ** n[i]
+        out[i, 4] = (gamma / length[i]) / (np.pi / 2) if length[i] > 0 else 0.0
+        out[i, 5] = -lam / (np.pi / 2)
 
 
 def rotation_onto(src: np.ndarray, dst: np.ndarray) -> np.ndarray:
     """The rotation matrix taking unit vector src onto dst (Rodrigues, axis src x dst).
 
     src = dst: identity.  src = -dst (axis undefined): the half turn about the fixed
-    perpendicular ``_perpendicular(dst)``.
+    perpendicular ``_perpendicular(dst)``.  Its columns are ``_rotate_onto`` of the basis.
     """
-    axis = np.cross(src, dst)
-    s = float(np.linalg.norm(axis))
-    c = float(np.dot(src, dst))
-    if s < _EPS:
-        if c > 0:
-            return np.eye(3)
-        u = _perpendicular(dst)
-        return 2.0 * np.outer(u, u) - np.eye(3)
-    kx, ky, kz = axis / s
-    kmat = np.array([[0.0, -kz, ky], [kz, 0.0, -kx], [-ky, kx, 0.0]])
-    return np.eye(3) + s * kmat + (1.0 - c) * (kmat @ kmat)
+    src, dst = np.asarray(src, dtype=np.float64), np.asarray(dst, dtype=np.float64)
+    return np.stack([_rotate_onto(src, dst, e) for e in np.eye(3)], axis=1)
 
 
 def half_vector_path(n1, n2, h1, h2) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
@@ -702,18 +777,68 @@ def half_vector_path(n1, n2, h1, h2) -> tuple[np.ndarray, np.ndarray, np.ndarray
     """
     n1u, n2u = _unit_vector("n1", n1), _unit_vector("n2", n2)
     h1u, h2u = _unit_vector("h1", h1), _unit_vector("h2", h2)
-    h2r = rotation_onto(n2u, n1u) @ h2u
-    cg = float(np.dot(h1u, h2r))
-    w = h2r - cg * h1u
-    sg = float(np.linalg.norm(w))
-    if sg >= 1e-9:
-        return n1u, h1u, w / sg, math.atan2(sg, cg)
-    if cg > 0:
-        return n1u, h1u, np.zeros(3), 0.0
-    w = n1u - float(np.dot(n1u, h1u)) * h1u
-    wn = float(np.linalg.norm(w))
-    w = w / wn if wn >= 1e-9 else _perpendicular(h1u)
-    return n1u, h1u, w, math.pi
+    w, gamma = _path(n1u, n2u, h1u, h2u)
+    return n1u, h1u, w, float(gamma)
+
+
+@dataclass(frozen=True)
+class LineSetups:
+    """``setup_lines``' result: one row per line, float values and register words."""
+
+    gamma: np.ndarray
+    lam: np.ndarray
+    amp: np.ndarray
+    c: np.ndarray
+    dz: np.ndarray
+    z0: np.ndarray
+    c_reg: np.ndarray
+    dz_reg: np.ndarray
+    z0_reg: np.ndarray
+
+
+def _unit_rows(name: str, v) -> np.ndarray:
+    arr = np.asarray(v, dtype=np.float64)
+    if arr.ndim != 2 or arr.shape[1] != 3 or not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} is out of range: legal is an (S, 3) array of finite vectors")
+    norm = np.linalg.norm(arr, axis=1)
+    if arr.shape[0] and norm.min() < _EPS:
+        bad = int(np.argmin(norm))
+        raise ValueError(f"{name}[{bad}] = {arr[bad]!r} is out of range: legal is non-zero")
+    return arr / norm[:, None]
+
+
+def setup_lines(n1, n2, h1, h2, n, light, length, cfg: SpecularConfig = DEFAULT) -> LineSetups:
+    """``setup_line`` for S lines at once: (S, 3) end vectors, (S,) n, light and l."""
+    vecs = [_unit_rows(name, v) for name, v in (("n1", n1), ("n2", n2), ("h1", h1), ("h2", h2))]
+    rows = vecs[0].shape[0]
+    if any(v.shape[0] != rows for v in vecs):
+        raise ValueError("n1, n2, h1, h2 must have the same number of rows")
+    n_arr = np.broadcast_to(fixed.check_operand("n", n, 1, N_MAX), (rows,))
+    len_arr = np.broadcast_to(fixed.check_operand("length", length, 0, cfg.len_max), (rows,))
+    light_arr = np.broadcast_to(np.asarray(light, dtype=np.float64), (rows,))
+    if not np.all(np.isfinite(light_arr)) or (rows and light_arr.min() < 0):
+        raise ValueError(f"light = {light!r} is out of range: legal is a finite value >= 0")
+    out = np.empty((rows, 6))
+    _setup_kernel(
+        *vecs,
+        np.ascontiguousarray(n_arr, dtype=np.int64),
+        np.ascontiguousarray(light_arr),
+        np.ascontiguousarray(len_arr, dtype=np.int64),
+        cfg.out_max,
+        out,
+    )
+    gamma, lam, amp, c, dz, z0 = out.T
+    return LineSetups(
+        gamma=gamma,
+        lam=lam,
+        amp=amp,
+        c=c,
+        dz=dz,
+        z0=z0,
+        c_reg=np.asarray(cfg.c_format.quantise(c), dtype=np.int64).reshape(rows),
+        dz_reg=np.asarray(cfg.z_format.quantise(dz), dtype=np.int64).reshape(rows),
+        z0_reg=np.asarray(cfg.z_format.quantise(z0), dtype=np.int64).reshape(rows),
+    )
 
 
 def setup_line(
@@ -735,32 +860,27 @@ def setup_line(
     Degenerate cases (each gives finite registers, never NaN): gamma -> 0 (constant H: dz = 0),
     gamma -> pi and N1 = -N2 (see ``half_vector_path`` and ``rotation_onto``), cos theta1 <= 0
     (A, lambda from atan2; A = 0 gives C = 0), l = 0 (dz = 0, one pixel).  C beyond the C
-    register saturates.
+    register saturates.  One implementation with ``setup_lines`` (a one-row batch).
     """
     n_i = int(fixed.check_operand("n", n, 1, N_MAX))
     len_i = int(fixed.check_operand("length", length, 0, cfg.len_max))
     if not isinstance(light, int | float | np.floating) or not math.isfinite(light) or light < 0:
         raise ValueError(f"light = {light!r} is out of range: legal is a finite value >= 0")
-    n1u, h1u, w, gamma = half_vector_path(n1, n2, h1, h2)
-    cos1 = float(np.dot(n1u, h1u))
-    nw = float(np.dot(n1u, w))
-    amp = min(1.0, math.hypot(cos1, nw))
-    lam = math.atan2(nw, cos1)
-    if gamma / 2 - lam > math.pi:
-        lam += 2 * math.pi
-    c_real = float(light) * cfg.out_max * amp**n_i
-    dz_real = (gamma / len_i) / (math.pi / 2) if len_i > 0 else 0.0
-    z0_real = -lam / (math.pi / 2)
+    vecs = [
+        _unit_vector(name, v)[None, :]
+        for name, v in (("n1", n1), ("n2", n2), ("h1", h1), ("h2", h2))
+    ]
+    rows = setup_lines(*vecs, n_i, float(light), len_i, cfg)
     return LineSetup(
-        gamma=gamma,
-        lam=lam,
-        amp=amp,
-        c=c_real,
-        dz=dz_real,
-        z0=z0_real,
-        c_reg=int(cfg.c_format.quantise(c_real)),
-        dz_reg=int(cfg.z_format.quantise(dz_real)),
-        z0_reg=int(cfg.z_format.quantise(z0_real)),
+        gamma=float(rows.gamma[0]),
+        lam=float(rows.lam[0]),
+        amp=float(rows.amp[0]),
+        c=float(rows.c[0]),
+        dz=float(rows.dz[0]),
+        z0=float(rows.z0[0]),
+        c_reg=int(rows.c_reg[0]),
+        dz_reg=int(rows.dz_reg[0]),
+        z0_reg=int(rows.z0_reg[0]),
         n=n_i,
         length=len_i,
     )
