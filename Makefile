@@ -51,6 +51,11 @@ lint: setup
 roms: setup
 	$(PY) -m model roms
 
+# Pixels per second of the bit-exact pipeline against the float references (one run, ratios),
+# and of the RTL scene co-simulation.
+bench: setup tools
+	$(PY) -m model bench
+
 # Yosys (iCE40) synthesis of every unit at its default configuration: resource table.
 synth: setup
 	@scripts/ensure-tools.sh yosys

@@ -1,7 +1,9 @@
 """Command line: ``python -m model <command>`` (also installed as ``shading``).
 
 Commands:
-  demo            the main job (for now: the divider's Table 1, its trade table, one RTL run)
+  demo            the main job: a scene through every method, images in out/, the comparison
+  bench           pixels per second of the bit-exact pipeline against the float references,
+                  and of the RTL co-simulation
   roms            regenerate every ROM image under rtl/rom/ from the model
   divider-table   the article's Table 1, recomputed from the formula (markdown)
   divider-trade   worst error and cycles for N = 4..20 over k = 1..2047 (markdown)
@@ -11,6 +13,10 @@ from __future__ import annotations
 
 import argparse
 import sys
+import time
+from pathlib import Path
+
+import numpy as np
 
 from model import divider, specular
 
@@ -73,44 +79,74 @@ def write_roms() -> None:
         print(f"wrote {path}")
 
 
-def demo() -> int:
-    print("== Shift-add divider: the article's Table 1 recomputed (N = 8, dividend 255) ==")
-    print(format_table1())
-    cfg6 = divider.DividerConfig(a_width=9, k_width=5, recip_bits=6)
-    approx = divider.divide(255, 7, cfg6) / 64
-    print(
-        f"\nworked example, k = 7, N = 6: 1/7 ~ "
-        f"{' + '.join(f'1/{2**j}' for j in divider.reciprocal_terms(7, 6))}: "
-        f"255/7 = {255 / 7:.4f} vs {approx:.4f} (error {255 / 7 - approx:.4f}, "
-        f"{100 * (255 / 7 - approx) / (255 / 7):.2f} %)"
+def demo(scene_name: str, size: int, out_dir: Path) -> int:
+    """The main job: the scene through every method, images into ``out_dir``, the table."""
+    from model import report
+
+    began = time.perf_counter()
+    print(f"== {scene_name}, {size} x {size}: every method against (a) exact Blinn ==")
+    run = report.run_methods(scene_name, size, progress=True)
+    print(report.format_table(run))
+    print("\n== What the scene requires of the hardware ==")
+    print(report.requirements(run))
+    written = report.write_images(run, out_dir)
+    print(f"\nwrote {len(written)} images to {out_dir}/ (sheet: {written[-1].name})")
+    print(f"demo took {time.perf_counter() - began:.1f} s")
+    return 0
+
+
+def bench(scene_name: str, size: int, repeats: int) -> int:
+    """Speed of the bit-exact pipeline against the float references, in one run, as ratios."""
+    from model import report
+
+    run = report.run_methods(
+        scene_name, size, methods=["exact", "phong", "hybrid", "adaptive"], repeats=repeats
     )
-    print("\n== The trade: reciprocal bits N against error and cycles ==")
-    print(format_trade())
-    print("\n== One RTL run: divider_shift under Icarus, every result against the model ==")
+    pps = {name: r.pixels_per_second for name, r in run.results.items()}
+    print(f"== make bench: {scene_name} {size} x {size}, best of {repeats} (shading only) ==")
+    print("| method | pixels/s | vs (a) exact Blinn | vs (b) Phong |")
+    print("|---|---|---|---|")
+    for name, value in pps.items():
+        print(
+            f"| {report.METHOD_LABELS[name]} | {value:,.0f} | {value / pps['exact']:.2f}x "
+            f"| {value / pps['phong']:.2f}x |"
+        )
+    target = pps["hybrid"] / pps["exact"]
+    print(
+        f"\ntarget: bit-exact pipeline >= 5x faster than (a): measured {target:.2f}x "
+        f"({'met' if target >= 5 else 'not met'})"
+    )
     try:
-        from sim.runner import hdl_parameters, run_bench
+        from sim.scene_cosim import cosimulate
     except ImportError as exc:  # the dev extra (cocotb) is not installed
-        print(f"not run: {exc}; `make demo` installs it")
+        print(f"co-simulation not run: {exc}; `make bench` installs it")
         return 1
-    cfg = divider.ARTICLE
-    params = hdl_parameters(cfg, ROM_FILE=divider.rom_path(cfg))
-    records = run_bench(
-        "divider_shift", "sim.tb_divider", "divider_demo", params, cfg, testcase="test_extremes"
-    )
-    compared = sum(r["compared"] for r in records)
-    errors = sum(r["errors"] for r in records)
+    cosim = cosimulate("sphere", 64, tag="scene_bench")
+    same = bool(np.array_equal(cosim.rtl_rgb, cosim.model_rgb))
     print(
-        f"divider_shift (N = 8): {compared} quotients compared with the model, {errors} mismatches"
+        f"co-simulation (sphere 64 x 64, three RTL units under Icarus): {cosim.pixels} pixels in "
+        f"{sum(cosim.seconds.values()):.1f} s = {cosim.pixels_per_second:.0f} pixels/s "
+        f"(builds included); image equal to the model's: {same}"
     )
-    return 0 if errors == 0 else 1
+    return 0 if same else 1
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="shading", description=__doc__.split("\n")[0])
-    parser.add_argument("command", choices=["demo", "roms", "divider-table", "divider-trade"])
+    parser.add_argument(
+        "command", choices=["demo", "bench", "roms", "divider-table", "divider-trade"]
+    )
+    parser.add_argument("--scene", default="teapot", choices=["sphere", "torus", "teapot", "quad"])
+    parser.add_argument("--size", type=int, default=256, help="image width and height (pixels)")
+    parser.add_argument("--out", type=Path, default=Path("out"), help="where demo images go")
+    parser.add_argument("--repeats", type=int, default=5, help="timed runs per method (bench)")
     args = parser.parse_args(argv)
+    if not 8 <= args.size <= 4096:
+        parser.error(f"--size = {args.size} is out of range: legal sizes are 8..4096")
     if args.command == "demo":
-        return demo()
+        return demo(args.scene, args.size, args.out)
+    if args.command == "bench":
+        return bench(args.scene, args.size, args.repeats)
     if args.command == "roms":
         write_roms()
     elif args.command == "divider-table":

@@ -79,6 +79,11 @@ class DividerConfig:
         return self.recip_bits + 1
 
     @property
+    def rom_bits(self) -> int:
+        """The reciprocal ROM: one word per k = 0..2**k_width - 1."""
+        return (1 << self.k_width) * self.recip_width
+
+    @property
     def a_range(self) -> tuple[int, int]:
         return fixed.signed_range(self.a_width)
 

@@ -381,6 +381,8 @@ def unit_shader(cfg: PipelineConfig):
         jobs = build_jobs(spans, ctx, cfg)
         gouraud_out, specular_out = run_units(jobs, spans.offsets, cfg)
         counters = unit_counters(jobs, cfg)
+        counters["triangles"] = int(np.unique(spans.tri).size)
+        counters["specular_triangles"] = int(np.unique(spans.tri[jobs.spec_span]).size)
         return ShadeResult(assemble(gouraud_out, specular_out), counters=counters)
 
     return shader

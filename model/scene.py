@@ -646,7 +646,7 @@ def builtin_scene(
 
     * "sphere": icosphere (1280 triangles), n = 60, directional light, viewer at infinity.
     * "torus": 48 x 24 torus, n = 20, point light, local viewer.
-    * "teapot": the Utah teapot (28 Bezier patches, ``teapot_steps``^2 cells each), n = 100,
+    * "teapot": the Utah teapot (28 Bezier patches, ``teapot_steps``^2 cells each), n = 40,
       directional light, viewer at infinity.
     * "quad": a 4 x 4 domed quad (32 x 32 cells, normals tilting up to 14 degrees), n = 1000,
       a nearby point light and a local viewer: one tight highlight.
@@ -668,9 +668,9 @@ def builtin_scene(
         return Scene((SceneObject(mesh, mat),), cam, light, "local", name=name)
     if name == "teapot":
         mesh = teapot_mesh(teapot_steps)
-        mat = Material(ambient=0.08, k_d=0.55, k_s=0.5, n=100, colour=(0.2, 0.4, 0.85))
+        mat = Material(ambient=0.1, k_d=0.65, k_s=0.8, n=40, colour=(0.25, 0.45, 0.9))
         cam = _camera_looking_at(mesh.vertices, (0.35, -1.0, 0.55), width, height, fov_y=30.0)
-        light = Light("directional", direction=(-0.7, -1.0, 0.8), intensity=1.0)
+        light = Light("directional", direction=(-0.3, -1.0, 0.9), intensity=1.0)
         return Scene((SceneObject(mesh, mat),), cam, light, "infinite", name=name)
     # "quad"
     mesh = domed_quad_mesh(4.0, 0.25, 32)

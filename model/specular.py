@@ -236,6 +236,20 @@ class SpecularConfig:
         return len(self.k_ranges)
 
     @property
+    def rom9_bits(self) -> int:
+        """ROM 9: one a word for every 10-bit n."""
+        return (1 << N_WIDTH) * self.a_width
+
+    @property
+    def rom12_bits(self) -> int:
+        """ROM 12: one cos^k table of 2**rom_addr_bits words per k in the set."""
+        return self.num_tables * (1 << self.rom_addr_bits) * self.rom_data_bits
+
+    @property
+    def rom_bits(self) -> int:
+        return self.rom9_bits + self.rom12_bits
+
+    @property
     def tsel_bits(self) -> int:
         """High ROM-12 address bits (table select); at least 1 so the RTL never has 0 bits."""
         return max(1, (self.num_tables - 1).bit_length())
