@@ -10,7 +10,7 @@ PYTEST := $(PY) -m pytest
 # Parallel pytest workers for the cocotb regressions (each bench builds in its own folder).
 JOBS   ?= auto
 
-.PHONY: setup tools demo test model-test sim lint roms synth bench clean
+.PHONY: setup tools demo test model-test sim lint roms synth bench trade clean
 
 setup: $(STAMP) data/teapot.bez
 
@@ -55,6 +55,10 @@ roms: setup
 # and of the RTL scene co-simulation.
 bench: setup tools
 	$(PY) -m model bench
+
+# The speed/accuracy trade: sweep every knob over the built-in scenes (Dask; cached, resumable).
+trade: setup
+	$(PY) -m model trade
 
 # Yosys (iCE40) synthesis of every unit at its default configuration: resource table.
 synth: setup
