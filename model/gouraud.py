@@ -307,11 +307,13 @@ def _segment_kernel(
     add_b: np.ndarray,
     add_sub: np.ndarray,
     values: np.ndarray,
+    mult: np.ndarray,
 ) -> None:
     """The article's figs. 3 and 4: multiples from shifts and adders, P lane adders per segment,
-    and the next start I0 + P*dI carried in the start register."""
+    and the next start I0 + P*dI carried in the start register.  ``mult`` (P + 1 words) is
+    scratch space for the multiples i*dI (the caller's, so a batch allocates it once)."""
     p = values.shape[1]
-    mult = np.zeros(p + 1, dtype=np.int64)
+    mult[:] = 0
     for k in range(shift_w.size):  # wired shifts 2**w * dI
         mult[1 << shift_w[k]] = di << shift_w[k]
     for k in range(add_t.size):  # the network's adders, in level order
@@ -356,7 +358,8 @@ def segment_count(length: int, p: int) -> int:
 
 def _values(i0: int, di: int, length: int, cfg: GouraudConfig) -> np.ndarray:
     values = np.empty((segment_count(length, cfg.p), cfg.p), dtype=np.int64)
-    _segment_kernel(i0 + cfg.round_bias, di, *_network_arrays(cfg.network), values)
+    mult = np.empty(cfg.p + 1, dtype=np.int64)
+    _segment_kernel(i0 + cfg.round_bias, di, *_network_arrays(cfg.network), values, mult)
     return values
 
 

@@ -169,14 +169,18 @@ def _gouraud_spans_kernel(
     out: np.ndarray,
 ) -> None:
     """gouraud.shade_line for every (span, channel), written into ``out`` (pixels, C)."""
+    max_seg = (intervals.max() + p) // p if intervals.size else 1
+    values_buf = np.empty((max_seg, p), dtype=np.int64)
+    lanes_buf = np.empty((max_seg, p), dtype=np.int64)
+    mult = np.empty(p + 1, dtype=np.int64)
     for s in range(intervals.size):
         length = intervals[s] + 1
         nseg = (length + p - 1) // p
-        values = np.empty((nseg, p), dtype=np.int64)
-        lanes = np.empty((nseg, p), dtype=np.int64)
+        values = values_buf[:nseg]
+        lanes = lanes_buf[:nseg]
         for c in range(i_start.shape[1]):
             gouraud._segment_kernel(
-                i_start[s, c] + bias, di[s, c], shift_w, add_t, add_a, add_b, add_sub, values
+                i_start[s, c] + bias, di[s, c], shift_w, add_t, add_a, add_b, add_sub, values, mult
             )
             gouraud._convert_kernel(values, frac, out_max, lanes)
             for x in range(length):
@@ -324,8 +328,12 @@ def _spans_through_specular_unit(spans: Spans, ctx: ShadeContext, cfg: PipelineC
         return np.ones(len(spans), dtype=bool)
     if cfg.specular_mode == "vertex":
         return np.zeros(len(spans), dtype=bool)
-    flags = object_highlight_flags(ctx.scene, obj=ctx.obj, levels=cfg.highlight_levels)
-    return flags[spans.tri]
+    # The host tests each triangle it draws once (not the hidden or culled ones).
+    drawn, index = np.unique(spans.tri, return_inverse=True)
+    flags = object_highlight_flags(
+        ctx.scene, obj=ctx.obj, levels=cfg.highlight_levels, triangles=drawn
+    )
+    return flags[index]
 
 
 def _specular_registers(
@@ -381,8 +389,10 @@ def unit_shader(cfg: PipelineConfig):
         jobs = build_jobs(spans, ctx, cfg)
         gouraud_out, specular_out = run_units(jobs, spans.offsets, cfg)
         counters = unit_counters(jobs, cfg)
-        counters["triangles"] = int(np.unique(spans.tri).size)
-        counters["specular_triangles"] = int(np.unique(spans.tri[jobs.spec_span]).size)
+        counters["triangles"] = int(np.count_nonzero(np.bincount(spans.tri)))
+        counters["specular_triangles"] = int(
+            np.count_nonzero(np.bincount(spans.tri[jobs.spec_span]))
+        )
         return ShadeResult(assemble(gouraud_out, specular_out), counters=counters)
 
     return shader

@@ -320,9 +320,16 @@ def triangle_may_show_highlight(normals, H, n, threshold) -> np.ndarray:
 
 
 def object_highlight_flags(
-    scene: Scene, obj: int = 0, levels: float = 0.5, cull_backfaces: bool = True
+    scene: Scene,
+    obj: int = 0,
+    levels: float = 0.5,
+    cull_backfaces: bool = True,
+    triangles: np.ndarray | None = None,
 ) -> np.ndarray:
     """``triangle_may_show_highlight`` for every triangle of object ``obj``: (T,) bool.
+
+    With ``triangles`` (indices into the mesh) only those are tested and their flags returned,
+    in that order: the host tests just the triangles it draws.
 
     The vertex H's come from the scene's light and viewer (a constant H for a directional light
     and a viewer at infinity); the threshold is ``highlight_threshold(k_s, I_l, levels)``.  Back
@@ -331,7 +338,7 @@ def object_highlight_flags(
     o = scene.objects[obj]
     mesh = o.mesh
     params = LightingParams.of(scene)
-    tri = mesh.triangles
+    tri = mesh.triangles if triangles is None else mesh.triangles[np.asarray(triangles)]
     nn = mesh.normals[tri]
     if not cull_backfaces:
         p = mesh.vertices[tri]
@@ -340,7 +347,7 @@ def object_highlight_flags(
         nn = nn * np.where(facing, 1.0, -1.0)[:, None, None]
     thr = highlight_threshold(o.material.k_s, scene.light.intensity, levels)
     if not np.isfinite(thr):
-        return np.zeros(mesh.n_triangles, dtype=bool)
+        return np.zeros(len(tri), dtype=bool)
     if params.constant_half_vector:
         _, _, h = lighting_vectors(mesh.vertices[:1], params)
         hh = h[0]
