@@ -279,12 +279,7 @@ def run_specular(jobs: UnitJobs, offsets: np.ndarray, cfg: specular.SpecularConf
         offsets,
         t.rom9,
         t.tsel,
-        t.rom12,
-        t.mag_max,
-        cfg.addr_shift,
-        cfg.rom_addr_bits,
-        cfg.c_frac_bits + cfg.rom_data_bits,
-        cfg.out_max,
+        *t.pixel_args,
         out,
     )
     return out

@@ -549,6 +549,15 @@ class _Tables:
         self.mag_max = (1 << cfg.mag_width) - 1
         self.tsel = np.zeros(1 << N_WIDTH, dtype=np.int64)
         self.tsel[1 : N_MAX + 1] = _table_index(np.arange(1, N_MAX + 1), cfg)
+        # What ``_pixels`` needs after (acc, c, a_word, tsel): ROM 12 and the datapath's shifts.
+        self.pixel_args = (
+            self.rom12,
+            self.mag_max,
+            cfg.addr_shift,
+            cfg.rom_addr_bits,
+            cfg.c_frac_bits + cfg.rom_data_bits,
+            cfg.out_max,
+        )
 
 
 _TABLES: dict[SpecularConfig, _Tables] = {}
@@ -582,19 +591,7 @@ def _run_line(c: int, dz: int, z0: int, n: int, length: int, cfg: SpecularConfig
     acc = np.empty(length + 1, dtype=np.int64)
     _accumulate(dz, z0, length, acc)
     out = np.empty(length + 1, dtype=np.int64)
-    _pixels(
-        acc,
-        c,
-        int(t.rom9[n]),
-        int(t.tsel[n]),
-        t.rom12,
-        t.mag_max,
-        cfg.addr_shift,
-        cfg.rom_addr_bits,
-        cfg.c_frac_bits + cfg.rom_data_bits,
-        cfg.out_max,
-        out,
-    )
+    _pixels(acc, c, int(t.rom9[n]), int(t.tsel[n]), *t.pixel_args, out)
     return out
 
 

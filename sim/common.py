@@ -372,6 +372,24 @@ class UnitTB:
         await self.start()
         await self.monitor.wait_idle()
 
+    async def hammer_while_busy(
+        self, cycles: int, random_operands: Callable[[], dict[str, int]]
+    ) -> None:
+        """Rule 1 probe, called right after an accepted ``start``.
+
+        In each of the job's ``cycles`` busy cycles it drives random operand writes and start;
+        then it starts again without loading, so the monitor (whose shadow registers ignore the
+        busy-time writes) checks that neither the job nor the rerun saw them.
+        """
+        for _ in range(cycles):
+            self.drive_operands(**random_operands())
+            self.dut.start.value = 1
+            await RisingEdge(self.dut.clk)
+        self.release_strobes()
+        await self.monitor.wait_idle()
+        await self.start()
+        await self.monitor.wait_idle()
+
     async def start_when_ready(self) -> None:
         """Hold ``start`` high until an edge accepts it (busy = 0 in the cycle before).
 

@@ -5,7 +5,6 @@ from __future__ import annotations
 import itertools
 
 import cocotb
-from cocotb.triggers import RisingEdge
 
 from model import divider
 from model.divider import DividerConfig
@@ -98,16 +97,10 @@ async def test_writes_and_start_ignored_while_busy(dut):
         k = rng.randint(1, tb.cfg.k_max)
         await tb.load(a=rng.randint(lo, hi), k=k)
         await tb.start()
-        # Hammer the operand strobes and start in every busy cycle (the model says how many);
-        # the monitor's shadow registers ignore them, so any effect shows as a mismatch.
-        for _ in range(divider.cycles(k, tb.cfg)):
-            tb.drive_operands(a=rng.randint(lo, hi), k=rng.randint(0, tb.cfg.k_max))
-            dut.start.value = 1
-            await RisingEdge(dut.clk)
-        tb.release_strobes()
-        await tb.monitor.wait_idle()
-        await tb.start()  # the same operands again: the busy-time writes must not have landed
-        await tb.monitor.wait_idle()
+        await tb.hammer_while_busy(
+            divider.cycles(k, tb.cfg),
+            lambda: {"a": rng.randint(lo, hi), "k": rng.randint(0, tb.cfg.k_max)},
+        )
     stats = tb.monitor.finish("busy_ignored")
     assert stats.writes_ignored > 0 and stats.starts_ignored > 0
 

@@ -10,7 +10,6 @@ from __future__ import annotations
 import random
 
 import cocotb
-from cocotb.triggers import RisingEdge
 
 from model import divider, fixed, gouraud
 from model.gouraud import GouraudConfig
@@ -216,18 +215,14 @@ async def test_writes_and_start_ignored_while_busy(dut):
         length = cfg.len_max if n == 0 else rng.randint(1, 4 * cfg.p + 3)
         await tb.load(i0=i0, di=di, len=length)
         await tb.start()
-        for _ in range(gouraud.cycles(length, cfg)):
-            tb.drive_operands(
-                i0=rng.randint(*cfg.i0_range),
-                di=rng.randint(*cfg.di_range),
-                len=rng.randint(0, cfg.len_max),
-            )
-            dut.start.value = 1
-            await RisingEdge(dut.clk)
-        tb.release_strobes()
-        await tb.monitor.wait_idle()
-        await tb.start()  # the same operands again: the busy-time writes must not have landed
-        await tb.monitor.wait_idle()
+        await tb.hammer_while_busy(
+            gouraud.cycles(length, cfg),
+            lambda: {
+                "i0": rng.randint(*cfg.i0_range),
+                "di": rng.randint(*cfg.di_range),
+                "len": rng.randint(0, cfg.len_max),
+            },
+        )
     stats = tb.monitor.finish("busy_ignored")
     assert stats.writes_ignored > 0 and stats.starts_ignored > 0, stats
 

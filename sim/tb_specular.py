@@ -6,7 +6,6 @@ import random
 
 import cocotb
 import numpy as np
-from cocotb.triggers import RisingEdge
 
 from model import specular
 from model.specular import SpecularConfig
@@ -198,15 +197,10 @@ async def test_writes_and_start_ignored_while_busy(dut):
         ops = tb.random_line(rng, rng.randint(1, specular.N_MAX), length)
         await tb.load(**ops)
         await tb.start()
-        for _ in range(specular.cycles(length, tb.cfg) - 1):
-            other = tb.any_registers(rng, rng.randint(0, 1023), rng.randint(0, tb.cfg.len_max))
-            tb.drive_operands(**other)
-            dut.start.value = 1
-            await RisingEdge(dut.clk)
-        tb.release_strobes()
-        await tb.monitor.wait_idle()
-        await tb.start()  # the same operands again: the busy-time writes must not have landed
-        await tb.monitor.wait_idle()
+        await tb.hammer_while_busy(
+            specular.cycles(length, tb.cfg),
+            lambda: tb.any_registers(rng, rng.randint(0, 1023), rng.randint(0, tb.cfg.len_max)),
+        )
     stats = tb.monitor.finish("busy_ignored")
     assert stats.writes_ignored > 0 and stats.starts_ignored > 0, stats
 
