@@ -7,6 +7,8 @@ Commands:
   roms            regenerate every ROM image under rtl/rom/ from the model
   divider-table   the article's Table 1, recomputed from the formula (markdown)
   divider-trade   worst error and cycles for N = 4..20 over k = 1..2047 (markdown)
+  trade           the speed/accuracy trade study: every knob swept over the scenes on Dask,
+                  cached and resumable; CSV, markdown and Pareto plots in out/trade/
 """
 
 from __future__ import annotations
@@ -134,15 +136,37 @@ def bench(scene_name: str, size: int, repeats: int) -> int:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="shading", description=__doc__.split("\n")[0])
     parser.add_argument(
-        "command", choices=["demo", "bench", "roms", "divider-table", "divider-trade"]
+        "command", choices=["demo", "bench", "roms", "divider-table", "divider-trade", "trade"]
     )
-    parser.add_argument("--scene", default="teapot", choices=["sphere", "torus", "teapot", "quad"])
-    parser.add_argument("--size", type=int, default=256, help="image width and height (pixels)")
-    parser.add_argument("--out", type=Path, default=Path("out"), help="where demo images go")
+    scenes = ["sphere", "torus", "teapot", "quad"]
+    parser.add_argument("--scene", default="teapot", choices=scenes)
+    parser.add_argument(
+        "--size", type=int, default=None, help="image width and height (256; trade: 128)"
+    )
+    parser.add_argument(
+        "--out", type=Path, default=None, help="where outputs go (out; trade: out/trade)"
+    )
     parser.add_argument("--repeats", type=int, default=5, help="timed runs per method (bench)")
+    trade = parser.add_argument_group("trade")
+    trade.add_argument("--scenes", nargs="+", choices=scenes, default=scenes)
+    trade.add_argument("--grid", choices=["small", "full"], default="small")
+    trade.add_argument("--workers", type=int, default=None, help="local Dask worker processes")
+    trade.add_argument("--scheduler", default=None, help="address of an existing Dask scheduler")
+    trade.add_argument("--figure", type=Path, default=None, help="also write trade_pareto.png here")
     args = parser.parse_args(argv)
+    is_trade = args.command == "trade"
+    if args.size is None:
+        args.size = 128 if is_trade else 256
+    if args.out is None:
+        args.out = Path("out/trade") if is_trade else Path("out")
     if not 8 <= args.size <= 4096:
         parser.error(f"--size = {args.size} is out of range: legal sizes are 8..4096")
+    if is_trade:
+        from model import trade
+
+        return trade.main(
+            args.scenes, args.size, args.grid, args.out, args.workers, args.scheduler, args.figure
+        )
     if args.command == "demo":
         return demo(args.scene, args.size, args.out)
     if args.command == "bench":

@@ -1,0 +1,231 @@
+"""The trade study's machinery: keys, knob mapping, the Dask sweep with its cache, the fronts."""
+
+from __future__ import annotations
+
+import dataclasses
+import hashlib
+
+import numpy as np
+import pytest
+
+from model import divider, gouraud, pipeline, specular, trade
+
+TINY = 32
+
+
+def test_key_is_stable_and_canonical():
+    p = trade.TradePoint(scene="sphere", size=32)
+    # The canonical JSON hash: equal across processes and runs (the cache relies on it).
+    assert p.key == trade.TradePoint(scene="sphere", size=np.int64(32)).key
+    assert p.key == trade.TradePoint(scene="sphere", size=32, highlight_levels=0.5).key
+    assert trade.TradePoint(highlight_levels=1).key == trade.TradePoint(highlight_levels=1.0).key
+    assert len(p.key) == 16 and int(p.key, 16) >= 0
+    canonical = (
+        '{"alpha":"taylor","highlight_levels":0.5,"k_set":"patent","p":8,"recip_bits":20,'
+        '"rom_addr_bits":12,"rom_data_bits":16,"scene":"sphere","size":32,'
+        f'"specular_mode":"unit","version":{trade.CACHE_VERSION},"z_frac_bits":26}}'
+    )
+    assert p.key == hashlib.sha256(canonical.encode()).hexdigest()[:16]
+    # Every field is part of the key; the config key ignores the scene and the size.
+    keys = {p.key}
+    for f, v in [("scene", "quad"), ("size", 64), ("rom_addr_bits", 10), ("alpha", "inflection")]:
+        q = dataclasses.replace(p, **{f: v})
+        assert q.key not in keys
+        keys.add(q.key)
+    assert p.config_key == trade.TradePoint(scene="quad", size=64).config_key
+    assert p.config_key != p.with_knobs(p=4).config_key
+
+
+def test_bad_point_is_refused():
+    with pytest.raises(ValueError, match="k_set"):
+        trade.TradePoint(k_set="k3")
+    with pytest.raises(ValueError, match="scene"):
+        trade.TradePoint(scene="cube")
+
+
+def test_default_point_is_the_default_pipeline():
+    assert trade.DEFAULT_POINT.to_pipeline_config() == pipeline.METHODS["hybrid"]
+    assert trade.DEFAULT_POINT.label == "default"
+
+
+@pytest.mark.parametrize(
+    "knob, value, field",
+    [
+        ("rom_addr_bits", 10, lambda c: c.specular.rom_addr_bits),
+        ("rom_data_bits", 12, lambda c: c.specular.rom_data_bits),
+        ("z_frac_bits", 18, lambda c: c.specular.z_frac_bits),
+        ("k_set", "k1-2-16", lambda c: c.specular.k_ranges),
+        ("alpha", "inflection", lambda c: c.specular.alpha),
+        ("recip_bits", 14, lambda c: c.divider.recip_bits),
+        ("p", 4, lambda c: c.gouraud.p),
+        ("specular_mode", "adaptive", lambda c: c.specular_mode),
+        ("highlight_levels", 2.0, lambda c: c.highlight_levels),
+    ],
+)
+def test_each_knob_maps_to_its_config_field(knob, value, field):
+    base = trade.DEFAULT_POINT.to_pipeline_config()
+    cfg = trade.DEFAULT_POINT.with_knobs(**{knob: value}).to_pipeline_config()
+    expect = trade.K_SETS[value] if knob == "k_set" else value
+    assert field(cfg) == expect
+    assert field(base) != expect
+    # Nothing else moves (a_int_bits follows the k-set and alpha; the same 3 bits here).
+    assert cfg == _set(base, field, cfg)
+
+
+def _set(base: pipeline.PipelineConfig, field, cfg: pipeline.PipelineConfig):
+    """base with only the units that ``field`` reads taken from cfg."""
+    for unit in ("divider", "gouraud", "specular"):
+        if getattr(cfg, unit) != getattr(base, unit):
+            base = dataclasses.replace(base, **{unit: getattr(cfg, unit)})
+    for top in ("specular_mode", "highlight_levels"):
+        if getattr(cfg, top) != getattr(base, top):
+            base = dataclasses.replace(base, **{top: getattr(cfg, top)})
+    return base
+
+
+def test_prototype_k_set_is_the_prototype_unit():
+    cfg = trade.DEFAULT_POINT.with_knobs(k_set="cos2").to_pipeline_config()
+    assert cfg.specular == specular.PROTOTYPE  # a_int_bits = 5 follows from a up to 22.4
+    assert cfg.divider == divider.DEFAULT and cfg.gouraud == gouraud.DEFAULT
+
+
+def test_small_grid_isolates_each_knob():
+    configs = trade.grid_configs("small")
+    points = [trade.DEFAULT_POINT.with_knobs(**c) for c in configs]
+    assert len({p.config_key for p in points}) == len(points)
+    for p in points:
+        changed = p.changed_knobs()
+        # one knob, the threshold with adaptive on, or a named combination
+        assert (
+            len(changed) <= 1
+            or set(changed) == {"specular_mode", "highlight_levels"}
+            or (changed in trade.NAMED.values())
+        )
+    assert {k for p in points for k in p.changed_knobs()} == set(trade.KNOBS)
+    assert len(trade.grid_points("small", ["sphere", "quad"], 64)) == 2 * len(configs)
+
+
+# ------------------------------------------------------------------------------ the engine
+CALLS: list[str] = []
+
+
+def counting_evaluate(point, repeats):
+    """trade.evaluate, counted (module level: an in-process Dask worker calls this very one)."""
+    CALLS.append(point.key)
+    return trade.evaluate(point, repeats)
+
+
+def _mtimes(cache_dir):
+    return {p.name: p.stat().st_mtime_ns for p in cache_dir.glob("*.json")}
+
+
+def test_sweep_on_dask_caches_and_resumes(tmp_path):
+    from dask.distributed import Client
+
+    cache = tmp_path / "cache"
+    points = [
+        trade.TradePoint(scene="sphere", size=TINY),
+        trade.TradePoint(scene="sphere", size=TINY, recip_bits=14),
+    ]
+    # The real engine: a LocalCluster of worker processes made by run_sweep itself.
+    first = trade.run_sweep(points, cache, workers=2, progress=False)
+    assert (first.cached, first.evaluated, first.failed) == (0, 2, {})
+    assert sorted(_mtimes(cache)) == sorted(f"{p.key}.json" for p in points)
+    assert [r["key"] for r in first.results] == [p.key for p in points]
+    r0, r1 = first.results
+    assert r0["label"] == "default" and r1["label"] == "recip_bits=14"
+    assert 0 < r0["nmse"] < 0.01 and r0["cycles"] == (
+        r0["divider_cycles"] + r0["gouraud_cycles"] + r0["specular_cycles"]
+    )
+    assert r1["divider_cycles"] <= r0["divider_cycles"]
+    assert r1["line_drift_levels"] > 10 * r0["line_drift_levels"]
+    assert r0["table_bits"] == 322560 and r0["epicentre_worst_n"] == 3
+
+    # Resumed: everything from the cache, nothing evaluated or rewritten.
+    before = _mtimes(cache)
+    calls = CALLS
+    calls.clear()
+    again = trade.run_sweep(points, cache, workers=2, progress=False, evaluate_fn=counting_evaluate)
+    assert (again.cached, again.evaluated, calls) == (2, 0, [])
+    assert again.results == first.results
+    assert _mtimes(cache) == before
+
+    # Partly cached: only the missing point goes to the (in-process) Dask cluster.
+    extra = trade.TradePoint(scene="sphere", size=TINY, p=4)
+    with Client(processes=False, n_workers=1, threads_per_worker=1, dashboard_address=None) as c:
+        part = trade.run_sweep(
+            [*points, extra], cache, client=c, progress=False, evaluate_fn=counting_evaluate
+        )
+    assert (part.cached, part.evaluated, calls) == (2, 1, [extra.key])
+    assert _mtimes(cache).items() >= before.items()
+    assert part.results[:2] == first.results and part.results[2]["p"] == 4
+
+
+def test_cache_ignores_other_or_broken_files(tmp_path):
+    p = trade.TradePoint(scene="sphere", size=TINY)
+    q = p.with_knobs(p=4)
+    trade.store(tmp_path, p, {"x": 1})
+    assert trade.load_cached(tmp_path, p) == {"x": 1}
+    assert not list(tmp_path.glob("*.tmp"))
+    # a file under q's name holding p's result (a collision) or half written: not used
+    trade.cache_path(tmp_path, p).rename(trade.cache_path(tmp_path, q))
+    assert trade.load_cached(tmp_path, q) is None
+    trade.cache_path(tmp_path, p).write_text('{"version": ')
+    assert trade.load_cached(tmp_path, p) is None
+
+
+# ------------------------------------------------------------------------------ analysis
+def test_pareto_mask_on_known_points():
+    pts = np.array([[1, 9], [2, 5], [3, 5], [4, 1], [5, 5], [2, 5], [6, 0.5]])
+    assert trade.pareto_mask(pts).tolist() == [True, True, False, True, False, True, True]
+    assert trade.pareto_mask(np.array([[1.0, 1.0]])).tolist() == [True]
+
+
+def test_eps_dominance_defines_near():
+    d = [1.0, 100.0]
+    assert trade.eps_dominates([1.04, 50.0], d)  # as accurate within 5 %, half the cost
+    assert not trade.eps_dominates([1.2, 50.0], d)  # cheaper but 20 % worse: a trade
+    assert not trade.eps_dominates([0.97, 98.0], d)  # better by less than 5 %: near
+    objs = np.array([d, [1.2, 50.0], [0.97, 98.0], [0.5, 200.0]])
+    assert trade.near_front(objs, 0) == []
+    assert trade.near_front(np.vstack([objs, [0.9, 90.0]]), 0) == [4]
+
+
+def test_default_is_on_the_all_figures_front_but_for_the_free_changes(tmp_path):
+    """What the README states: over every figure at once (accuracy, worst cases and costs), the
+    default is eps-dominated only by changes that cost nothing (inflection a, adaptive skipping,
+    a smaller P on small scenes); its widths, N and k-set are on the front.  On NMSE against
+    cycles alone, smaller N dominates it (the scenes' short spans cannot show the drift)."""
+    configs = [
+        {},
+        {"recip_bits": 14},
+        {"rom_addr_bits": 10},
+        {"rom_data_bits": 12},
+        {"z_frac_bits": 10},
+        {"k_set": "k1-2-16"},
+        {"alpha": "inflection"},
+        {"specular_mode": "adaptive"},
+        {"specular_mode": "vertex"},
+    ]
+    points = [trade.TradePoint(scene="sphere", size=48, **c) for c in configs]
+    out = trade.run_sweep(points, tmp_path, workers=0, progress=False, repeats=1)
+    rows, written = trade.write_outputs(out.results, tmp_path / "trade")
+    assert [p.name for p in written] == [
+        "results.csv",
+        "results.md",
+        "pareto_cycles.png",
+        "pareto_bits.png",
+    ]
+    pos = trade.default_position(rows)
+    free = {"alpha", "specular_mode", "highlight_levels", "p"}
+    by_label = {r["label"]: r for r in rows}
+    for label in pos["all figures"]:
+        assert (
+            set(trade.DEFAULT_POINT.with_knobs(**trade._knobs(by_label[label])).changed_knobs())
+            <= free
+        )
+    assert "alpha=inflection" in pos["all figures"]
+    assert by_label["recip_bits=14"]["cycles"] <= by_label["default"]["cycles"]
+    vertex = by_label["specular_mode=vertex"]
+    assert vertex["pareto_cycles"] and vertex["pareto_bits"]  # the cheapest: on both fronts
+    assert vertex["nmse"] > 5 * by_label["default"]["nmse"]
