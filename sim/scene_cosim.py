@@ -35,6 +35,7 @@ class CosimResult:
     rtl_rgb: np.ndarray
     model_rgb: np.ndarray
     pixels: int  # pixels shaded (sent through the units)
+    jobs: dict[str, int] = field(default_factory=dict)  # jobs (starts) per unit
     results: dict[str, int] = field(default_factory=dict)  # RTL results per unit
     cycles: dict[str, int] = field(default_factory=dict)  # simulated clock cycles per unit
     seconds: dict[str, float] = field(default_factory=dict)  # wall time per unit run
@@ -193,6 +194,7 @@ def cosimulate(
         ("gouraud_segment", gouraud),
         ("specular_unit", spec),
     ):
+        result.jobs[unit] = len(run["outputs"])
         result.results[unit] = run["results"]
         result.cycles[unit] = run["cycles"]
         result.seconds[unit] = run["seconds"]

@@ -29,10 +29,10 @@ def test_rtl_scene_equals_model_scene_byte_for_byte(request) -> None:
         (
             "sim",
             {
-                "unit": "scene (3 RTL units)",
+                "unit": "scene co-simulation (3 RTL units, image equal byte for byte)",
                 "test": "scene_cosim",
-                "jobs": sum(result.results.values()),
-                "compared": int(result.rtl_rgb.size),
+                "jobs": sum(result.jobs.values()),
+                "compared": sum(result.results.values()),
                 "errors": 0,
                 "cycles": sum(result.cycles.values()),
             },
