@@ -126,6 +126,18 @@ class ProtocolMonitor:
         self._handles = [(name, getattr(dut, name)) for name in names]
         cocotb.start_soon(self._run())
 
+    def corrupt_model(self, result: int, port: str, change: Callable[[int], int]) -> None:
+        """Make the model wrong on purpose: ``port`` of result ``result`` (negative counts from
+        the end) of every job becomes ``change(value)``.  Used to show rule 6 can fail."""
+        exact = self.expect
+
+        def corrupted(ops: dict[str, int]) -> Job:
+            job = exact(ops)
+            job.results[result][port] = change(job.results[result][port])
+            return job
+
+        self.expect = corrupted
+
     def declare_signed(self, *names: str) -> None:
         """Operand registers holding two's-complement values (for readable reports)."""
         for name in names:

@@ -269,14 +269,8 @@ async def test_reset_mid_line(dut):
 async def test_mismatch_report_reproduces(dut):
     """Rule 6: the scoreboard flags a wrong segment and names the inputs that reproduce it."""
     tb = GouraudTB(dut)
-    exact_expect = tb.expect
-
-    def wrong_lane(ops):
-        job = exact_expect(ops)
-        job.results[-1]["pixels"] ^= 1 << tb.cfg.i_int  # lane 1's low bit, in the last segment
-        return job
-
-    tb.monitor.expect = wrong_lane
+    # Lane 1's low bit, in the last segment.
+    tb.monitor.corrupt_model(-1, "pixels", lambda word: word ^ (1 << tb.cfg.i_int))
     await tb.reset()
     length = tb.cfg.p + 1
     await tb.line(5 << tb.cfg.i_frac, 3 << (tb.cfg.i_frac - 1), length)

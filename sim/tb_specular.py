@@ -251,14 +251,7 @@ async def test_reset_mid_line(dut):
 async def test_mismatch_report_reproduces(dut):
     """Rule 6: the scoreboard flags a wrong result and names the inputs that reproduce it."""
     tb = SpecularTB(dut)
-    exact_expect = tb.expect
-
-    def off_by_one(ops):
-        job = exact_expect(ops)
-        job.results[2]["intensity"] += 1
-        return job
-
-    tb.monitor.expect = off_by_one
+    tb.monitor.corrupt_model(2, "intensity", lambda v: v + 1)
     await tb.reset()
     c = tb.cfg.c_format.hi
     await tb.line(c, 1 << (tb.cfg.z_frac_bits - 8), -(1 << (tb.cfg.z_frac_bits - 6)), 50, 4)
