@@ -75,6 +75,9 @@ reg               k_zero_reg = 1'b1;
 reg [Q_WIDTH-1:0] shift_reg = {Q_WIDTH{1'b0}};
 reg [Q_WIDTH-1:0] acc_reg = {Q_WIDTH{1'b0}};
 reg [R_WIDTH-1:0] bits_reg = {R_WIDTH{1'b0}};
+// k = 0 of the division that runs (latched at start: a k write in the start cycle is for the
+// next division and must not reach this one's div_zero)
+reg               run_zero_reg = 1'b0;
 
 // Control and outputs
 reg               busy_reg = 1'b0;
@@ -107,6 +110,7 @@ always @(posedge clk) begin
             shift_reg <= {a_reg, {RECIP_BITS{1'b0}}};
             acc_reg <= {Q_WIDTH{1'b0}};
             bits_reg <= k_zero_reg ? {R_WIDTH{1'b0}} : recip_reg;
+            run_zero_reg <= k_zero_reg;
         end
     end else begin
         acc_reg <= acc_next;
@@ -117,7 +121,7 @@ always @(posedge clk) begin
             busy_reg <= 1'b0;
             valid_reg <= 1'b1;
             q_reg <= acc_next;
-            div_zero_reg <= k_zero_reg;
+            div_zero_reg <= run_zero_reg;
         end
     end
 
@@ -128,6 +132,7 @@ always @(posedge clk) begin
         shift_reg <= {Q_WIDTH{1'b0}};
         acc_reg <= {Q_WIDTH{1'b0}};
         bits_reg <= {R_WIDTH{1'b0}};
+        run_zero_reg <= 1'b0;
         busy_reg <= 1'b0;
         valid_reg <= 1'b0;
         q_reg <= {Q_WIDTH{1'b0}};

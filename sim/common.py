@@ -5,18 +5,22 @@ Every unit has the same protocol (DESIGN.md): operand registers written by ``<na
 one ``valid`` strobe per result.  A start accepted in the same cycle as a write runs on the
 values the registers held before that write (the write lands for the next run).
 
-``ProtocolMonitor`` samples the DUT after every rising edge (in ReadOnly) and checks, on its own,
-whatever stimulus the test drives:
+``ProtocolMonitor`` samples the DUT after every rising edge (in ReadOnly), steps the protocol
+model (sim/protocol.py) with the inputs that edge sampled, and compares *every* output with the
+model's prediction in *every* cycle, whatever stimulus the test drives:
 
-1. writes and ``start`` in a cycle with ``busy`` = 1 are ignored: it keeps a shadow copy of the
-   operand registers and updates it only with accepted writes, and only an accepted start makes
-   a job, whose expected results come from the golden model applied to the shadow copy;
+1. writes and ``start`` in a cycle with ``busy`` = 1 are ignored (the model keeps the operand
+   registers and only an accepted start makes a job, from the golden model);
 2. each job has exactly the expected ``valid`` strobes at the expected cycles and ``busy`` high
    for exactly the expected number of cycles (the model's ``cycles()``);
 3. a start in the first cycle ``busy`` is 0 is accepted like any other (back-to-back);
-4. ``rst_n`` low aborts the job, clears the shadow registers and must give busy = valid = 0;
-5. after the first reset no output is X or Z, in any cycle;
-6. every result equals the model bit for bit; a mismatch logs the operands that reproduce it.
+4. ``rst_n`` low aborts the job, clears the operand registers and gives busy = valid = 0 and
+   the flags 0;
+5. after the first reset busy, valid and the flags are never X or Z, and data outputs are
+   defined from the first result on;
+6. every result equals the model bit for bit; a mismatch logs the operands that reproduce it;
+7. between results every output holds the last result (strobes such as ``last`` are 0), so a
+   flag that belongs to another job than its result is caught in the cycle it appears.
 
 The test asks ``monitor.finish()`` at the end, which raises with the first mismatches.
 """
@@ -27,45 +31,30 @@ import json
 import os
 import random
 from collections.abc import Callable
-from dataclasses import dataclass, field
 
 import cocotb
 from cocotb.clock import Clock
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, with_timeout
 
 from model import fixed
+from sim import soak, units
+from sim.protocol import Job, Port, ProtocolModel, Stats, compare, from_field
+
+__all__ = [
+    "Job",
+    "ProtocolMonitor",
+    "Stats",
+    "UnitTB",
+    "bench_config",
+    "bench_rng",
+    "bench_seed",
+    "random_strobes",
+]
 
 CLOCK_NS = 10
 MAX_REPORTED = 10
 # Longer than any legal job: a 2047-interval specular line is 2052 cycles, the slowest.
 WATCHDOG_CYCLES = 10_000
-
-
-@dataclass
-class Job:
-    """What one accepted start must produce, from the golden model."""
-
-    operands: dict[str, int]
-    results: list[dict[str, int]]
-    busy_cycles: int
-    # Offset of each valid strobe: 0 is the cycle right after the edge that accepted start.
-    valid_offsets: list[int]
-    offset: int = 0
-    seen: int = 0
-
-
-@dataclass
-class Stats:
-    jobs_started: int = 0
-    jobs_completed: int = 0
-    jobs_aborted: int = 0
-    results_compared: int = 0
-    writes_ignored: int = 0
-    starts_ignored: int = 0
-    resets: int = 0
-    back_to_back: int = 0
-    cycles: int = 0
-    errors: list[str] = field(default_factory=list)
 
 
 def as_uint(value) -> int:
@@ -75,7 +64,16 @@ def as_uint(value) -> int:
 
 def bench_seed() -> int:
     """The random seed of this run: BENCH_SEED if given, else cocotb's (both get printed)."""
-    seed = int(os.environ.get("BENCH_SEED", cocotb.RANDOM_SEED))
+    raw = os.environ.get("BENCH_SEED")
+    if raw is None:
+        seed = int(cocotb.RANDOM_SEED)
+    else:
+        try:
+            seed = int(raw, 0)
+        except ValueError:
+            raise ValueError(
+                f"BENCH_SEED={raw!r} is not allowed: it must be an integer (e.g. BENCH_SEED=1234)"
+            ) from None
     cocotb.log.info("bench seed %d (rerun with BENCH_SEED=%d)", seed, seed)
     return seed
 
@@ -90,194 +88,121 @@ def bench_rng(test_name: str) -> random.Random:
 
 
 class ProtocolMonitor:
-    """Cycle-by-cycle checker of the load/start/busy/valid protocol against a golden model.
+    """Cycle-by-cycle checker of every output against the protocol model of one unit."""
 
-    ``operands`` maps each operand register name (``a`` for ``a_in``/``a_we``) to its reset
-    value; ``outputs`` maps each result port to whether it is signed; ``expect`` turns a copy of
-    the operand registers into the ``Job`` the unit must perform.
-    """
-
-    def __init__(
-        self,
-        dut,
-        operands: dict[str, int],
-        outputs: dict[str, bool],
-        expect: Callable[[dict[str, int]], Job],
-        unit: str,
-    ) -> None:
+    def __init__(self, dut, cfg: units.UnitConfig) -> None:
         self.dut = dut
-        self.unit = unit
-        self.reset_values = dict(operands)
-        self.outputs = outputs
-        self.expect = expect
-        self.shadow = dict(operands)
-        self.widths = {name: len(getattr(dut, f"{name}_in")) for name in operands}
-        self.out_widths = {name: len(getattr(dut, name)) for name in outputs}
-        self.signed_ops: dict[str, bool] = {}
-        self.job: Job | None = None
-        self.stats = Stats()
-        self.seen_reset = False
+        self.cfg = cfg
+        self.spec = units.spec(cfg)
+        self.unit = self.spec.toplevel
+        self.model = ProtocolModel(self.spec, units.expect(cfg))
+        self.reset_values = self.spec.reset_operands
         # With keep_results, the RTL's outputs of every job, in order (for replays).
         self.result_log: list[list[dict[str, int]]] = []
         self.keep_results = False
-        self.completed_at = -2
-        inputs = [f"{n}_in" for n in operands] + [f"{n}_we" for n in operands]
-        names = ("rst_n", "start", "busy", "valid", *inputs, *outputs)
-        self._handles = [(name, getattr(dut, name)) for name in names]
+        self._started = 0
+        self._inputs: list[tuple[str, object, Port | None]] = [
+            ("rst_n", dut.rst_n, None),
+            ("start", dut.start, None),
+        ]
+        for p in self.spec.operands:
+            self._inputs.append((f"{p.name}_we", getattr(dut, f"{p.name}_we"), None))
+            self._inputs.append((f"{p.name}_in", getattr(dut, f"{p.name}_in"), p))
+        self._outputs: list[tuple[str, object, Port | None]] = [
+            ("busy", dut.busy, None),
+            ("valid", dut.valid, None),
+            *((p.name, getattr(dut, p.name), p) for p in self.spec.outputs),
+        ]
+        for name, handle, port in self._outputs + self._inputs:
+            if port is not None and len(handle) != port.width:
+                raise ValueError(
+                    f"{self.unit}.{name} is {len(handle)} bits, the configuration says "
+                    f"{port.width}: the RTL was built for another configuration"
+                )
         cocotb.start_soon(self._run())
+
+    @property
+    def stats(self) -> Stats:
+        return self.model.stats
 
     def corrupt_model(self, result: int, port: str, change: Callable[[int], int]) -> None:
         """Make the model wrong on purpose: ``port`` of result ``result`` (negative counts from
         the end) of every job becomes ``change(value)``.  Used to show rule 6 can fail."""
-        exact = self.expect
+        exact = self.model.expect
 
         def corrupted(ops: dict[str, int]) -> Job:
             job = exact(ops)
             job.results[result][port] = change(job.results[result][port])
             return job
 
-        self.expect = corrupted
-
-    def declare_signed(self, *names: str) -> None:
-        """Operand registers holding two's-complement values (for readable reports)."""
-        for name in names:
-            self.signed_ops[name] = True
+        self.model.expect = corrupted
 
     # ------------------------------------------------------------------ sampling
-    def _sample(self) -> dict:
-        return {name: handle.value for name, handle in self._handles}
-
-    def _operand_value(self, name: str, raw) -> int:
-        bits = as_uint(raw)
-        if self.signed_ops.get(name):
-            return fixed.from_bits(bits, self.widths[name])
-        return bits
-
-    def _output_value(self, name: str, raw) -> int:
-        bits = as_uint(raw)
-        return fixed.from_bits(bits, self.out_widths[name]) if self.outputs[name] else bits
+    @staticmethod
+    def _read(handles: list[tuple[str, object, Port | None]]) -> dict[str, int | None]:
+        values: dict[str, int | None] = {}
+        for name, handle, port in handles:
+            raw = handle.value
+            if not raw.is_resolvable:
+                values[name] = None
+            else:
+                bits = as_uint(raw)
+                values[name] = from_field(bits, port) if port is not None else bits
+        return values
 
     def _error(self, text: str) -> None:
-        self.stats.errors.append(text)
-        if len(self.stats.errors) <= MAX_REPORTED:
+        errors = self.stats.errors
+        errors.append(text)
+        if len(errors) <= MAX_REPORTED:
             self.dut._log.error("%s: %s", self.unit, text)
-
-    def _describe(self, operands: dict[str, int]) -> str:
-        return ", ".join(f"{k}={v}" for k, v in operands.items())
 
     # ------------------------------------------------------------------ the checks
     async def _run(self) -> None:
-        prev = None
+        inputs = None
         while True:
             await RisingEdge(self.dut.clk)
             await ReadOnly()
-            cur = self._sample()
-            self.stats.cycles += 1
-            if prev is not None:
-                self._edge(prev, cur)
-            prev = cur
+            if inputs is not None:
+                self._edge(inputs, self._read(self._outputs))
+            inputs = self._read(self._inputs)
 
-    def _edge(self, prev: dict, cur: dict) -> None:
-        """One rising edge: ``prev`` holds the inputs it sampled, ``cur`` what it produced."""
-        rst_n = prev["rst_n"]
-        if not rst_n.is_resolvable or int(rst_n) == 0:
-            self._reset_edge(cur)
+    def _edge(self, inputs: dict[str, int | None], got: dict[str, int | None]) -> None:
+        """One rising edge: ``inputs`` as it sampled them, ``got`` the outputs after it."""
+        model = self.model
+        expected = model.step(inputs)
+        result = model.last_result
+        if result is not None and self.keep_results:
+            if model.stats.jobs_started != self._started:
+                self._started = model.stats.jobs_started
+                self.result_log.append([])
+            self.result_log[-1].append({name: got[name] for name in result})
+        diffs = compare(self.spec, expected, got)
+        if not diffs:
             return
-        if self.seen_reset:
-            self._check_known(cur)
-        if not self.seen_reset:
-            return
-
-        busy_before = int(prev["busy"])
-        writes = {n for n in self.shadow if int(prev[f"{n}_we"])}
-        start = int(prev["start"])
-        if busy_before:
-            self.stats.writes_ignored += len(writes)
-            self.stats.starts_ignored += start
+        cycle = model.stats.cycles
+        if result is not None and any(d.split(" ")[0] in result for d in diffs):
+            job = model.last_job
+            shown = {name: got[name] for name in result}
+            self._error(
+                f"result {job.seen - 1} mismatch at cycle {cycle}: got {shown}, model {result}; "
+                f"reproduce with inputs {model.describe()}"
+            )
+            diffs = [d for d in diffs if d.split(" ")[0] not in result]
         else:
-            if start:
-                if self.job is not None:
-                    pending = self._describe(self.job.operands)
-                    self._error(f"start accepted while a job is pending ({pending})")
-                self.job = self.expect(dict(self.shadow))
-                self.stats.jobs_started += 1
-                if self.keep_results:
-                    self.result_log.append([])
-                if self.completed_at == self.stats.cycles - 1:
-                    self.stats.back_to_back += 1
-            for name in writes:
-                self.shadow[name] = self._operand_value(name, prev[f"{name}_in"])
-        self._check_job(cur, start_edge=bool(start and not busy_before))
-
-    def _reset_edge(self, cur: dict) -> None:
-        if self.job is not None:
-            self.stats.jobs_aborted += 1
-        self.job = None
-        self.shadow = dict(self.reset_values)
-        self.stats.resets += 1
-        self.seen_reset = True
-        if not (cur["busy"].is_resolvable and cur["valid"].is_resolvable):
-            self._error("busy/valid are X or Z after a reset edge")
-        elif int(cur["busy"]) or int(cur["valid"]):
-            self._error("busy or valid high after a reset edge")
-        for name in self.outputs:
-            if not cur[name].is_resolvable or as_uint(cur[name]) != 0:
-                self._error(f"output {name} = {cur[name]} after a reset edge, expected 0")
-
-    def _check_known(self, cur: dict) -> None:
-        for name in ("busy", "valid", *self.outputs):
-            if not cur[name].is_resolvable:
-                self._error(f"output {name} is {cur[name]} (X/Z) at cycle {self.stats.cycles}")
-
-    def _check_job(self, cur: dict, start_edge: bool) -> None:
-        busy = int(cur["busy"]) if cur["busy"].is_resolvable else -1
-        valid = int(cur["valid"]) if cur["valid"].is_resolvable else -1
-        job = self.job
-        if job is None:
-            if valid == 1:
-                self._error(f"valid with no job running at cycle {self.stats.cycles}")
-            if busy == 1:
-                self._error(f"busy with no job running at cycle {self.stats.cycles}")
-            return
-        if not start_edge:
-            job.offset += 1
-        offset = job.offset
-        expect_valid = offset in job.valid_offsets
-        if valid != int(expect_valid):
-            self._error(
-                f"valid = {valid} at offset {offset}, expected {int(expect_valid)} "
-                f"(valid offsets {job.valid_offsets[:8]}...); inputs {self._describe(job.operands)}"
-            )
-        if valid == 1 and job.seen < len(job.results):
-            self._compare(job, cur)
-        expect_busy = offset < job.busy_cycles
-        if busy != int(expect_busy):
-            self._error(
-                f"busy = {busy} at offset {offset}, expected {int(expect_busy)} "
-                f"(busy for {job.busy_cycles} cycles); inputs {self._describe(job.operands)}"
-            )
-        if offset >= job.busy_cycles:
-            if job.seen != len(job.results):
+            held = [d for d in diffs if d.split(" ")[0] in model.held]
+            if held:
                 self._error(
-                    f"{job.seen} results for {len(job.results)} expected; "
-                    f"inputs {self._describe(job.operands)}"
+                    f"cycle {cycle}, between results: {'; '.join(held)} (held from the last "
+                    f"result); last job: inputs {model.describe()}"
                 )
-            self.stats.jobs_completed += 1
-            self.completed_at = self.stats.cycles
-            self.job = None
-
-    def _compare(self, job: Job, cur: dict) -> None:
-        expected = job.results[job.seen]
-        got = {name: self._output_value(name, cur[name]) for name in expected}
-        if self.keep_results:
-            self.result_log[-1].append(got)
-        if got != expected:
-            self._error(
-                f"result {job.seen} mismatch: got {got}, model {expected}; "
-                f"reproduce with inputs {self._describe(job.operands)}"
-            )
-        job.seen += 1
-        self.stats.results_compared += 1
+            diffs = [d for d in diffs if d.split(" ")[0] not in model.held]
+        if diffs:
+            self._error(f"cycle {cycle}: {'; '.join(diffs)}; job: inputs {model.describe()}")
+        # Re-synchronise the held outputs with what the RTL shows, so one wrong value is one
+        # error and a later change of it while held is another.
+        for name in model.held:
+            if expected.get(name) is not None and got.get(name) is not None:
+                model.held[name] = got[name]
 
     # ------------------------------------------------------------------ for the test
     async def wait_idle(self) -> None:
@@ -300,7 +225,8 @@ class ProtocolMonitor:
         s = self.stats
         self.dut._log.info(
             "%s %s: %d jobs, %d results compared, %d aborted by reset, %d writes and %d starts "
-            "ignored while busy, %d back-to-back starts, %d cycles, %d errors",
+            "ignored while busy, %d writes with an accepted start, %d back-to-back starts, "
+            "%d cycles (every output checked in each), %d errors",
             self.unit,
             test_name,
             s.jobs_completed,
@@ -308,6 +234,7 @@ class ProtocolMonitor:
             s.jobs_aborted,
             s.writes_ignored,
             s.starts_ignored,
+            s.writes_at_start,
             s.back_to_back,
             s.cycles,
             len(s.errors),
@@ -416,3 +343,24 @@ class UnitTB:
             if ready:
                 break
         self.dut.start.value = 0
+
+
+async def random_strobes(tb: UnitTB, cycles: int, seed: int) -> Stats:
+    """Drive the soak's random stimulus (sim/soak.py) cycle by cycle through the unit.
+
+    Every strobe and start at random, writes in start and busy cycles, values across 0 and at
+    the extremes, short random resets; the monitor checks every output in every cycle.
+    """
+    for inputs in soak.stimulus(tb.monitor.cfg, cycles, seed):
+        tb.dut.rst_n.value = inputs["rst_n"]
+        tb.dut.start.value = inputs["start"]
+        for port in tb.monitor.spec.operands:
+            getattr(tb.dut, f"{port.name}_we").value = inputs[f"{port.name}_we"]
+            getattr(tb.dut, f"{port.name}_in").value = fixed.to_bits(
+                inputs[f"{port.name}_in"], port.width
+            )
+        await RisingEdge(tb.dut.clk)
+    tb.release_strobes()
+    tb.dut.rst_n.value = 1
+    await tb.monitor.wait_idle()
+    return tb.monitor.stats

@@ -18,6 +18,8 @@ from pathlib import Path
 from cocotb_tools.check_results import get_results
 from cocotb_tools.runner import get_runner
 
+from model import divider
+
 ROOT = Path(__file__).resolve().parent.parent
 # The bench subprocess gets this process's sys.path: make sure it can import ``sim``.
 if str(ROOT) not in sys.path:
@@ -32,6 +34,21 @@ def require_iverilog() -> None:
             "iverilog (Icarus Verilog) is not on PATH: install it with "
             "'apt-get install iverilog' (make test does this when run as root)"
         )
+
+
+def env_seed(variable: str) -> int | None:
+    """The integer seed in environment variable ``variable`` (None if unset); one clear error
+    naming the variable, its value and what is allowed otherwise."""
+    raw = os.environ.get(variable)
+    if raw is None or raw == "":
+        return None
+    try:
+        return int(raw, 0)
+    except ValueError:
+        raise ValueError(
+            f"{variable}={raw!r} is not allowed: it must be an integer seed "
+            f"(e.g. {variable}=1234), or unset for a fresh one"
+        ) from None
 
 
 def hdl_parameters(config: object, **extra: object) -> dict[str, object]:
@@ -50,6 +67,13 @@ def hdl_parameters(config: object, **extra: object) -> dict[str, object]:
     return params
 
 
+def unit_parameters(config: object) -> dict[str, object]:
+    """The Verilog parameters of the unit built for ``config``, ROM images included."""
+    if isinstance(config, divider.DividerConfig):
+        return hdl_parameters(config, ROM_FILE=divider.rom_path(config))
+    return hdl_parameters(config)
+
+
 def run_bench(
     toplevel: str,
     bench_module: str,
@@ -59,11 +83,15 @@ def run_bench(
     seed: int | None = None,
     testcase: str | None = None,
     extra_env: dict[str, str] | None = None,
+    rtl: Path | None = None,
+    expect_failure: bool = False,
 ) -> list[dict]:
     """Build ``rtl/<toplevel>.v`` with ``parameters`` and run ``sim/<bench_module>.py``.
 
     ``config`` (a dataclass) reaches the bench as JSON in BENCH_CONFIG.  String parameters are
     quoted for Icarus here.  Returns the summary records the bench's monitors wrote.
+    ``rtl`` replaces ``rtl/<toplevel>.v`` (a saved mutant); with ``expect_failure`` the bench
+    must fail (the records are returned then, with the failed tests' errors counted).
     """
     require_iverilog()
     build_dir = SIM_BUILD / name
@@ -76,7 +104,7 @@ def run_bench(
 
     runner = get_runner("icarus")
     runner.build(
-        sources=[RTL_DIR / f"{toplevel}.v"],
+        sources=[rtl or RTL_DIR / f"{toplevel}.v"],
         hdl_toplevel=toplevel,
         parameters=hdl_params,
         build_dir=build_dir,
@@ -85,23 +113,35 @@ def run_bench(
         always=True,
     )
     env = {"BENCH_CONFIG": json.dumps(cfg), "BENCH_SUMMARY": str(summary), **(extra_env or {})}
-    if seed is None and "BENCH_SEED" in os.environ:
-        seed = int(os.environ["BENCH_SEED"])
+    if seed is None:
+        seed = env_seed("BENCH_SEED")
     if seed is not None:
         env["BENCH_SEED"] = str(seed)
-    results = runner.test(
-        test_module=bench_module,
-        hdl_toplevel=toplevel,
-        build_dir=build_dir,
-        test_dir=build_dir,
-        extra_env=env,
-        waves=waves,
-        testcase=testcase,
-        results_xml=str(build_dir / "results.xml"),
-    )
+    results_xml = build_dir / "results.xml"
+    results_xml.unlink(missing_ok=True)
+    try:
+        runner.test(
+            test_module=bench_module,
+            hdl_toplevel=toplevel,
+            build_dir=build_dir,
+            test_dir=build_dir,
+            extra_env=env,
+            waves=waves,
+            testcase=testcase,
+            results_xml=str(results_xml),
+        )
+    except SystemExit:
+        # cocotb's runner exits when a test failed; the results file says which.
+        if not expect_failure:
+            raise
+    results = results_xml
     num_tests, num_failed = get_results(Path(results))
     if num_tests == 0:
         raise AssertionError(f"{bench_module} on {name} ran no test")
+    if expect_failure:
+        if not num_failed:
+            raise AssertionError(f"{bench_module} passed on {name}, which must fail it")
+        return [json.loads(line) for line in summary.read_text().splitlines()]
     if num_failed:
         raise AssertionError(f"{num_failed} of {num_tests} cocotb tests failed in {bench_module}")
     if not summary.exists():

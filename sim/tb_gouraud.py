@@ -7,13 +7,21 @@ Every segment (packed ``pixels``, ``mask``, ``last``) is compared bit for bit wi
 
 from __future__ import annotations
 
+import os
 import random
 
 import cocotb
 
 from model import divider, fixed, gouraud
 from model.gouraud import GouraudConfig
-from sim.common import Job, ProtocolMonitor, UnitTB, bench_config, bench_rng
+from sim.common import (
+    ProtocolMonitor,
+    UnitTB,
+    bench_config,
+    bench_rng,
+    bench_seed,
+    random_strobes,
+)
 
 RANDOM_LINES = 150
 BUSY_LINES = 15
@@ -21,32 +29,19 @@ BACK_TO_BACK = 20
 RESETS = 8
 
 
+# Cycles of the random-strobe test (BENCH_STROBE_CYCLES overrides; the vector soak runs 100k).
+STROBE_CYCLES = 3000
+
+
 class GouraudTB(UnitTB):
     """Driver + scoreboard for one configuration of the segment Gouraud unit."""
 
     def __init__(self, dut) -> None:
         self.cfg = GouraudConfig(**bench_config())
-        monitor = ProtocolMonitor(
-            dut,
-            operands={"i0": 0, "di": 0, "len": 0},
-            outputs={"pixels": False, "mask": False, "last": False},
-            expect=self.expect,
-            unit="gouraud_segment",
-        )
-        monitor.declare_signed("di")
-        super().__init__(dut, monitor)
+        super().__init__(dut, ProtocolMonitor(dut, self.cfg))
         # The increments a host would compute with the shift-add divider: (I_b - I_a) / (m - 1)
         self.div_cfg = divider.DividerConfig(
             a_width=self.cfg.di_width, k_width=self.cfg.len_width, recip_bits=20
-        )
-
-    def expect(self, ops: dict[str, int]) -> Job:
-        i0, di, length = ops["i0"], ops["di"], ops["len"]
-        return Job(
-            operands=ops,
-            results=gouraud.unit_results(i0, di, length, self.cfg),
-            busy_cycles=gouraud.cycles(length, self.cfg),
-            valid_offsets=gouraud.valid_offsets(length, self.cfg),
         )
 
     async def line(self, i0: int, di: int, length: int) -> None:
@@ -282,3 +277,14 @@ async def test_mismatch_report_reproduces(dut):
     assert f"'pixels': {expected[-1]['pixels']}" in errors[0], errors[0]
     errors.clear()
     tb.monitor.finish("mismatch_report")
+
+
+@cocotb.test()
+async def test_random_strobes(dut):
+    """Rules 1-7 under the soak's stimulus: random strobes, start timing and resets, writes in
+    start and busy cycles, values across 0 and at the extremes; every output, every cycle."""
+    tb = GouraudTB(dut)
+    cycles = int(os.environ.get("BENCH_STROBE_CYCLES", STROBE_CYCLES))
+    stats = await random_strobes(tb, cycles, bench_seed())
+    assert stats.writes_at_start > 0 and stats.writes_ignored > 0 and stats.starts_ignored > 0
+    tb.monitor.finish("random_strobes")

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import random
 
 import cocotb
@@ -9,11 +10,22 @@ import numpy as np
 
 from model import specular
 from model.specular import SpecularConfig
-from sim.common import Job, ProtocolMonitor, UnitTB, bench_config, bench_rng
+from sim.common import (
+    ProtocolMonitor,
+    UnitTB,
+    bench_config,
+    bench_rng,
+    bench_seed,
+    random_strobes,
+)
 
 # Lines of the every-n test that are long (the rest have l = 0..7, to keep the run short).
 LONG_LINES = 12
 INVALID_N = [0, 1001, 1002, 1023]
+
+
+# Cycles of the random-strobe test (BENCH_STROBE_CYCLES overrides; the vector soak runs 100k).
+STROBE_CYCLES = 3000
 
 
 class SpecularTB(UnitTB):
@@ -21,27 +33,7 @@ class SpecularTB(UnitTB):
 
     def __init__(self, dut) -> None:
         self.cfg = SpecularConfig(**bench_config())
-        monitor = ProtocolMonitor(
-            dut,
-            operands={"c": 0, "dz": 0, "z0": 0, "n": 0, "len": 0},
-            outputs={"intensity": False, "n_err": False},
-            expect=self.expect,
-            unit="specular_unit",
-        )
-        monitor.declare_signed("dz", "z0")
-        super().__init__(dut, monitor)
-
-    def expect(self, ops: dict[str, int]) -> Job:
-        length = ops["len"]
-        values, n_err = specular.unit_line(
-            ops["c"], ops["dz"], ops["z0"], ops["n"], length, self.cfg
-        )
-        return Job(
-            operands=ops,
-            results=[{"intensity": int(v), "n_err": n_err} for v in values],
-            busy_cycles=specular.cycles(length, self.cfg),
-            valid_offsets=specular.valid_offsets(length, self.cfg),
-        )
+        super().__init__(dut, ProtocolMonitor(dut, self.cfg))
 
     async def line(self, c: int, dz: int, z0: int, n: int, length: int) -> None:
         """One line: all operands in one cycle, start in the next, wait until busy falls."""
@@ -265,3 +257,14 @@ async def test_mismatch_report_reproduces(dut):
     assert f"'intensity': {int(values[2])}," in errors[0], errors[0]
     errors.clear()
     tb.monitor.finish("mismatch_report")
+
+
+@cocotb.test()
+async def test_random_strobes(dut):
+    """Rules 1-7 under the soak's stimulus: random strobes, start timing and resets, writes in
+    start and busy cycles, values across 0 and at the extremes; every output, every cycle."""
+    tb = SpecularTB(dut)
+    cycles = int(os.environ.get("BENCH_STROBE_CYCLES", STROBE_CYCLES))
+    stats = await random_strobes(tb, cycles, bench_seed())
+    assert stats.writes_at_start > 0 and stats.writes_ignored > 0 and stats.starts_ignored > 0
+    tb.monitor.finish("random_strobes")

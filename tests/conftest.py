@@ -11,6 +11,19 @@ if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
 
+def pytest_configure(config) -> None:
+    """Refuse a bad seed variable once, in one line, before any test runs."""
+    import pytest
+
+    from sim.runner import env_seed
+
+    for variable in ("BENCH_SEED", "SOAK_SEED"):
+        try:
+            env_seed(variable)
+        except ValueError as exc:
+            raise pytest.UsageError(str(exc)) from None
+
+
 def record_sim(request, records: list[dict]) -> None:
     """Attach a bench's counts to the test report (user_properties travel through xdist)."""
     for rec in records:
@@ -18,7 +31,10 @@ def record_sim(request, records: list[dict]) -> None:
 
 
 def pytest_terminal_summary(terminalreporter, exitstatus, config):
-    totals: dict[str, dict[str, int]] = defaultdict(lambda: {"tests": 0, "compared": 0, "jobs": 0})
+    totals: dict[str, dict[str, int]] = defaultdict(
+        lambda: {"tests": 0, "compared": 0, "jobs": 0, "cycles": 0}
+    )
+    seeds: list[str] = []
     for report in terminalreporter.stats.get("passed", []) + terminalreporter.stats.get(
         "failed", []
     ):
@@ -30,13 +46,18 @@ def pytest_terminal_summary(terminalreporter, exitstatus, config):
                 t["tests"] += 1
                 t["compared"] += rec["compared"]
                 t["jobs"] += rec["jobs"]
+                t["cycles"] += rec.get("cycles", 0)
+                if "seed" in rec:
+                    seeds.append(f"{rec['unit']}: seed {rec['seed']}, {rec['cycles']} cycles")
     if not totals:
         return
     tr = terminalreporter
     tr.section("RTL regression summary (every result compared bit for bit with the model)")
     for unit, t in sorted(totals.items()):
         tr.write_line(
-            f"{unit}: {t['compared']} results compared in {t['jobs']} jobs "
-            f"over {t['tests']} cocotb tests"
+            f"{unit}: {t['compared']} results compared in {t['jobs']} jobs, "
+            f"{t['cycles']} cycles (every output checked in each) over {t['tests']} tests"
         )
+    for line in seeds:
+        tr.write_line(f"soak {line} (replay with SOAK_SEED=<seed>)")
     tr.write_line(f"all units: {sum(t['compared'] for t in totals.values())} results compared")

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import pytest
 
 from model import divider
@@ -9,6 +11,7 @@ from sim.runner import hdl_parameters, run_bench
 from tests.conftest import record_sim
 
 pytestmark = pytest.mark.sim
+MUTANTS = Path(__file__).resolve().parent / "mutants"
 
 
 @pytest.mark.parametrize("name", ["article", "n4", "n16", "default"])
@@ -18,3 +21,25 @@ def test_divider_rtl_matches_model(request, name: str) -> None:
     records = run_bench("divider_shift", "sim.tb_divider", f"divider_{name}", params, cfg)
     record_sim(request, records)
     assert sum(r["compared"] for r in records) > 0
+
+
+def test_bench_finds_the_div_zero_leak(request) -> None:
+    """The released divider (div_zero read from the k register at result time, issue 11) fails
+    the bench's random-strobe and write-in-start-cycle tests: the deliberate-error probe kept
+    as a saved mutant."""
+    cfg = divider.DEFAULT
+    params = hdl_parameters(cfg, ROM_FILE=divider.rom_path(cfg))
+    records = run_bench(
+        "divider_shift",
+        "sim.tb_divider",
+        "divider_mutant_div_zero",
+        params,
+        cfg,
+        testcase=["test_random_strobes", "test_write_in_start_cycle"],
+        rtl=MUTANTS / "divider_shift_div_zero_leak.v",
+        expect_failure=True,
+    )
+    errors = {r["test"]: r["errors"] for r in records}
+    assert errors.get("random_strobes", 0) > 0 and errors.get("write_in_start_cycle", 0) > 0, (
+        records
+    )

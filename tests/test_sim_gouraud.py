@@ -22,5 +22,5 @@ def test_gouraud_rtl_matches_model(request, name: str) -> None:
     params = hdl_parameters(cfg)
     records = run_bench("gouraud_segment", "sim.tb_gouraud", f"gouraud_{name}", params, cfg)
     record_sim(request, records)
-    assert len(records) == 8 and all(r["errors"] == 0 for r in records), records
+    assert len(records) == 9 and all(r["errors"] == 0 for r in records), records
     assert sum(r["compared"] for r in records) > 0

@@ -1,0 +1,240 @@
+"""The load/start/busy/valid protocol as a cycle-by-cycle model: what every output must be.
+
+One implementation of the contract (docs and DESIGN.md rules 1-7), used by two benches:
+the cocotb ``ProtocolMonitor`` (sim/common.py) steps it with the inputs it samples at each
+rising edge and compares the DUT's outputs with its prediction; the vector soak (sim/soak.py)
+steps it over a random stimulus and writes the prediction as the expected-response file of a
+plain Verilog bench.  Pure Python: no cocotb, no simulator.
+
+Per edge, with the inputs the edge sampled (``rst_n``, ``start``, ``<op>_in``, ``<op>_we``):
+
+* ``rst_n`` = 0 aborts any job, clears the operand registers to their reset values, gives
+  busy = valid = 0, flags and strobes 0 and the data outputs undefined (``None``: the data
+  path need not be reset) until the next result;
+* while busy (as predicted) writes and start are ignored (rule 1);
+* otherwise a start makes a job from the operand registers as they were *before* this edge's
+  writes (a write in the start cycle is for the next job), then the writes land;
+* busy is 1 for the job's ``busy_cycles``; valid is 1 at its ``valid_offsets`` (0 = the cycle
+  right after the start edge), and then every output takes the job's next result;
+* between results every *held* output (data and flags) keeps the last result's value and every
+  *strobe* output (e.g. ``last``) is 0: so every output is predicted in every cycle.
+
+Before the first reset nothing is predicted (all ``None``).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from typing import Literal
+
+from model import fixed
+
+OutputKind = Literal["data", "flag", "strobe"]
+
+
+@dataclass(frozen=True)
+class Port:
+    name: str
+    width: int
+    signed: bool = False
+    # Operands: the value a reset writes.  Outputs: ignored.
+    reset: int = 0
+    # Outputs only: "data" (held, undefined after reset), "flag" (held, 0 after reset),
+    # "strobe" (the result's value with valid, 0 otherwise).
+    kind: OutputKind = "data"
+
+
+@dataclass(frozen=True)
+class UnitSpec:
+    """The ports of one unit configuration: its operand registers and its result outputs."""
+
+    toplevel: str
+    operands: tuple[Port, ...]
+    outputs: tuple[Port, ...]
+
+    def operand(self, name: str) -> Port:
+        return next(p for p in self.operands if p.name == name)
+
+    @property
+    def reset_operands(self) -> dict[str, int]:
+        return {p.name: p.reset for p in self.operands}
+
+
+@dataclass
+class Job:
+    """What one accepted start must produce, from the golden model."""
+
+    operands: dict[str, int]
+    results: list[dict[str, int]]
+    busy_cycles: int
+    # Offset of each valid strobe: 0 is the cycle right after the edge that accepted start.
+    valid_offsets: list[int]
+    offset: int = 0
+    seen: int = 0
+    # Edge (cycle count) that accepted the start, and whether an operand write landed with it.
+    started_at: int = 0
+    write_at_start: bool = False
+
+    def __post_init__(self) -> None:
+        if len(self.valid_offsets) != len(self.results):
+            raise ValueError(
+                f"job with {len(self.results)} results has {len(self.valid_offsets)} valid offsets"
+            )
+        if self.valid_offsets and max(self.valid_offsets) > self.busy_cycles:
+            raise ValueError(
+                f"valid offset {max(self.valid_offsets)} after busy falls ({self.busy_cycles})"
+            )
+
+
+@dataclass
+class Stats:
+    jobs_started: int = 0
+    jobs_completed: int = 0
+    jobs_aborted: int = 0
+    results_compared: int = 0
+    writes_ignored: int = 0
+    starts_ignored: int = 0
+    # Accepted starts with an operand write in the same edge (the div_zero class of defect).
+    writes_at_start: int = 0
+    resets: int = 0
+    back_to_back: int = 0
+    cycles: int = 0
+    errors: list[str] = field(default_factory=list)
+
+
+Expect = Callable[[dict[str, int]], Job]
+
+
+class ProtocolModel:
+    """Predicts every output of a unit, edge by edge, from its inputs and the golden model."""
+
+    def __init__(self, spec: UnitSpec, expect: Expect) -> None:
+        self.spec = spec
+        self.expect = expect
+        self.stats = Stats()
+        self.shadow: dict[str, int] | None = None  # None until the first reset
+        self.job: Job | None = None
+        # The job of the latest accepted start (kept after it completes, for reports).
+        self.last_job: Job | None = None
+        # The job whose result the held outputs show.
+        self.result_job: Job | None = None
+        self.busy = 0
+        self.held: dict[str, int | None] = {}
+        self.completed_at = -2
+        self.last_result: dict[str, int] | None = None
+
+    # ------------------------------------------------------------------ stepping
+    def step(self, inputs: dict[str, int | None]) -> dict[str, int | None]:
+        """One rising edge with the inputs it sampled; returns the outputs expected after it.
+
+        ``inputs`` has ``rst_n``, ``start``, ``<op>_we`` (0/1) and ``<op>_in`` (the operand's
+        value, signed for signed operands); ``None`` marks an X/Z input (only ``rst_n`` may be
+        unknown, before the first reset).
+        """
+        s = self.stats
+        s.cycles += 1
+        self.last_result = None
+        rst_n = inputs["rst_n"]
+        if rst_n is None or rst_n == 0:
+            return self._reset()
+        if self.shadow is None:
+            return self._unknown()
+        writes = [p.name for p in self.spec.operands if inputs[f"{p.name}_we"]]
+        start = bool(inputs["start"])
+        new_job = False
+        if self.busy:
+            s.writes_ignored += len(writes)
+            s.starts_ignored += int(start)
+        else:
+            if start:
+                self.job = self.last_job = self.expect(dict(self.shadow))
+                self.job.started_at = s.cycles
+                self.job.write_at_start = bool(writes)
+                new_job = True
+                s.jobs_started += 1
+                s.writes_at_start += int(bool(writes))
+                if self.completed_at == s.cycles - 1:
+                    s.back_to_back += 1
+            for name in writes:
+                self.shadow[name] = int(inputs[f"{name}_in"])  # type: ignore[arg-type]
+        return self._advance(new_job)
+
+    def _reset(self) -> dict[str, int | None]:
+        if self.job is not None:
+            self.stats.jobs_aborted += 1
+        self.job = self.last_job = self.result_job = None
+        self.busy = 0
+        self.shadow = self.spec.reset_operands
+        self.stats.resets += 1
+        self.held = {p.name: (None if p.kind == "data" else 0) for p in self.spec.outputs}
+        return {"busy": 0, "valid": 0, **self.held}
+
+    def _unknown(self) -> dict[str, int | None]:
+        return {"busy": None, "valid": None, **{p.name: None for p in self.spec.outputs}}
+
+    def _advance(self, new_job: bool) -> dict[str, int | None]:
+        job = self.job
+        out: dict[str, int | None] = {"busy": 0, "valid": 0}
+        strobes = {p.name: 0 for p in self.spec.outputs if p.kind == "strobe"}
+        if job is not None:
+            if not new_job:
+                job.offset += 1
+            if job.offset in job.valid_offsets:
+                result = job.results[job.seen]
+                job.seen += 1
+                self.stats.results_compared += 1
+                self.last_result = result
+                self.result_job = job
+                out["valid"] = 1
+                for p in self.spec.outputs:
+                    if p.kind == "strobe":
+                        strobes[p.name] = result[p.name]
+                    else:
+                        self.held[p.name] = result[p.name]
+            if job.offset < job.busy_cycles:
+                out["busy"] = 1
+            else:
+                self.stats.jobs_completed += 1
+                self.completed_at = self.stats.cycles
+                self.job = None
+        self.busy = out["busy"]  # type: ignore[assignment]
+        out.update(self.held)
+        out.update(strobes)
+        return out
+
+    # ------------------------------------------------------------------ reporting
+    def describe(self, job: Job | None = None) -> str:
+        """The inputs that reproduce the latest (or the given) job, for a mismatch report."""
+        job = job if job is not None else self.last_job
+        if job is None:
+            return "no job running"
+        ops = ", ".join(f"{k}={v}" for k, v in job.operands.items())
+        extra = ", operand write in the start cycle" if job.write_at_start else ""
+        return f"{ops} (started at cycle {job.started_at}{extra})"
+
+
+def compare(
+    spec: UnitSpec, expected: dict[str, int | None], got: dict[str, int | None]
+) -> list[str]:
+    """Names and values of the outputs that differ from a prediction (``None`` = don't care;
+    a ``None`` in ``got`` is an X/Z output where a value is due)."""
+    diffs = []
+    for name in ("busy", "valid", *(p.name for p in spec.outputs)):
+        want = expected.get(name)
+        if want is None:
+            continue
+        have = got.get(name)
+        if have != want:
+            shown = "X/Z" if have is None else have
+            diffs.append(f"{name} = {shown}, expected {want}")
+    return diffs
+
+
+def to_field(value: int, port: Port) -> int:
+    """The port's bit pattern of a (signed or unsigned) value."""
+    return fixed.to_bits(value, port.width) if port.signed else value
+
+
+def from_field(bits: int, port: Port) -> int:
+    return fixed.from_bits(bits, port.width) if port.signed else bits

@@ -1,0 +1,96 @@
+// Vector bench of rtl/specular_unit.v: replays stim.hex, checks every output every cycle
+// against expect.hex / mask.hex (written by sim/soak.py from the model).  Plain Verilog-2005.
+
+`resetall
+`timescale 1ns / 1ps
+`default_nettype none
+
+module tb_specular_unit #(
+    parameter C_INT_BITS = 8,
+    parameter C_FRAC_BITS = 8,
+    parameter Z_INT_BITS = 3,
+    parameter Z_FRAC_BITS = 26,
+    parameter LEN_WIDTH = 11,
+    parameter A_INT_BITS = 3,
+    parameter A_FRAC_BITS = 14,
+    parameter ROM_ADDR_BITS = 12,
+    parameter ROM_DATA_BITS = 16,
+    parameter OUT_WIDTH = 8,
+    parameter NUM_TABLES = 4,
+    parameter N_HI0 = 1,
+    parameter N_HI1 = 2,
+    parameter N_HI2 = 6,
+    parameter N_HI3 = 1000,
+    parameter MAG_INT_BITS = 1,
+    parameter A_ROM_FILE = "rom/specular_a_taylor_n1k1_n2k2_n3-6k4_n7-1000k16_q3.14.hex",
+    parameter COS_ROM_FILE = "rom/specular_cos_k1-2-4-16_a12_d16.hex",
+    parameter CYCLES = 1,
+    parameter STIM_FILE = "stim.hex",
+    parameter EXPECT_FILE = "expect.hex",
+    parameter MASK_FILE = "mask.hex"
+);
+
+localparam C_WIDTH = C_INT_BITS + C_FRAC_BITS;
+localparam Z_WIDTH = Z_INT_BITS + Z_FRAC_BITS;
+// {rst_n, start, c_we, c_in, dz_we, dz_in, z0_we, z0_in, n_we, n_in, len_we, len_in}
+localparam STIM_W = 2 + 1 + C_WIDTH + 2 * (1 + Z_WIDTH) + 1 + 10 + 1 + LEN_WIDTH;
+// {busy, valid, intensity, n_err}
+localparam OUT_W = 2 + OUT_WIDTH + 1;
+
+reg  [STIM_W-1:0]    stim_word = {STIM_W{1'b0}};
+wire                 rst_n, start, c_we, dz_we, z0_we, n_we, len_we;
+wire [C_WIDTH-1:0]   c_in;
+wire [Z_WIDTH-1:0]   dz_in, z0_in;
+wire [9:0]           n_in;
+wire [LEN_WIDTH-1:0] len_in;
+assign {rst_n, start, c_we, c_in, dz_we, dz_in, z0_we, z0_in, n_we, n_in, len_we, len_in} =
+    stim_word;
+
+wire                 busy, valid, n_err;
+wire [OUT_WIDTH-1:0] intensity;
+wire [OUT_W-1:0]     got_word = {busy, valid, intensity, n_err};
+
+`include "vector_loop.vh"
+
+specular_unit #(
+    .C_INT_BITS(C_INT_BITS),
+    .C_FRAC_BITS(C_FRAC_BITS),
+    .Z_INT_BITS(Z_INT_BITS),
+    .Z_FRAC_BITS(Z_FRAC_BITS),
+    .LEN_WIDTH(LEN_WIDTH),
+    .A_INT_BITS(A_INT_BITS),
+    .A_FRAC_BITS(A_FRAC_BITS),
+    .ROM_ADDR_BITS(ROM_ADDR_BITS),
+    .ROM_DATA_BITS(ROM_DATA_BITS),
+    .OUT_WIDTH(OUT_WIDTH),
+    .NUM_TABLES(NUM_TABLES),
+    .N_HI0(N_HI0),
+    .N_HI1(N_HI1),
+    .N_HI2(N_HI2),
+    .N_HI3(N_HI3),
+    .MAG_INT_BITS(MAG_INT_BITS),
+    .A_ROM_FILE(A_ROM_FILE),
+    .COS_ROM_FILE(COS_ROM_FILE)
+) dut (
+    .clk(clk),
+    .rst_n(rst_n),
+    .c_in(c_in),
+    .c_we(c_we),
+    .dz_in(dz_in),
+    .dz_we(dz_we),
+    .z0_in(z0_in),
+    .z0_we(z0_we),
+    .n_in(n_in),
+    .n_we(n_we),
+    .len_in(len_in),
+    .len_we(len_we),
+    .start(start),
+    .busy(busy),
+    .valid(valid),
+    .intensity(intensity),
+    .n_err(n_err)
+);
+
+endmodule
+
+`resetall
