@@ -10,7 +10,7 @@ PYTEST := $(PY) -m pytest
 # Parallel pytest workers for the cocotb regressions (each bench builds in its own folder).
 JOBS   ?= auto
 
-.PHONY: setup tools demo test model-test sim lint roms synth bench trade clean
+.PHONY: setup tools demo test model-test sim lint roms synth bench trade accuracy clean
 
 setup: $(STAMP) data/teapot.bez
 
@@ -41,15 +41,26 @@ model-test: setup
 sim: setup tools
 	$(PYTEST) -n $(JOBS) -m sim tests
 
+# Every RTL file as Verilog-2005 three ways: Verilator -Wall in its default (SystemVerilog) mode
+# and in 1364-2005 mode, and Icarus -g2005 (Yosys reads it in make synth and the tests).
 lint: setup
-	@scripts/ensure-tools.sh verilator
-	@for f in $(RTL); do verilator --lint-only -Wall $$f || exit 1; done
-	@echo "verilator: $(words $(RTL)) RTL files lint-clean"
+	@scripts/ensure-tools.sh verilator iverilog
+	@for f in $(RTL); do \
+		verilator --lint-only -Wall $$f || exit 1; \
+		verilator --lint-only -Wall --language 1364-2005 $$f || exit 1; \
+		iverilog -g2005 -Wall -o /dev/null $$f || exit 1; \
+	done
+	@echo "verilator -Wall (default, 1364-2005), iverilog -g2005: $(words $(RTL)) RTL files clean"
 	$(PY) -m ruff check model sim tests scripts
 	$(PY) -m ruff format --check model sim tests scripts
 
 roms: setup
 	$(PY) -m model roms
+
+# Every accuracy figure of the README as a worst case (exhaustive or proven), with the conditions
+# it holds under: the table the README carries (tests/test_accuracy.py checks they agree).
+accuracy: setup
+	$(PY) -m model accuracy
 
 # Pixels per second of the bit-exact pipeline against the float references (one run, ratios),
 # and of the RTL scene co-simulation.

@@ -7,6 +7,8 @@ Commands:
   roms            regenerate every ROM image under rtl/rom/ from the model
   divider-table   the article's Table 1, recomputed from the formula (markdown)
   divider-trade   worst error and cycles for N = 4..20 over k = 1..2047 (markdown)
+  accuracy        every accuracy figure of the README, each a worst case (exhaustive or
+                  proven), with the conditions it holds under, and the tables (markdown)
   trade           the speed/accuracy trade study: every knob swept over the scenes on Dask,
                   cached and resumable; CSV, markdown and Pareto plots in out/trade/
 """
@@ -21,6 +23,7 @@ from pathlib import Path
 import numpy as np
 
 from model import divider, specular
+from model.accuracy import format_up
 
 
 def divider_table1(recip_bits: int = 8, dividend: int = 255) -> list[dict]:
@@ -50,9 +53,9 @@ def format_table1() -> str:
     worst = max(rows, key=lambda r: abs(r["error"]))
     mean_rel = sum(abs(r["relative_pct"]) for r in rows) / len(rows)
     lines.append("")
-    lines.append(
-        f"max |error| {abs(worst['error']):.4f} at k = {worst['k']}; "
-        f"mean |relative error| over k = 2..16: {mean_rel:.2f} %"
+    lines.append(  # the largest rounded up (a bound), like every worst case (accuracy.format_up)
+        f"max |error| {format_up(abs(worst['error']), 5)} at k = {worst['k']}; "
+        f"mean |relative error| over k = 2..16: {format_up(mean_rel, 4)} %"
     )
     return "\n".join(lines)
 
@@ -66,7 +69,8 @@ def format_trade(k_max: int = 2047, bits: range = range(4, 21)) -> str:
     for n in bits:
         r = divider.trade_row(n, k_max)
         lines.append(
-            f"| {n} | {r.worst_abs_error:.4f} | {r.worst_abs_k} | {100 * r.worst_rel_error:.3f} % "
+            f"| {n} | {format_up(r.worst_abs_error, 4)} | {r.worst_abs_k} "
+            f"| {format_up(r.worst_rel_error, 3, 100)} % "
             f"| {r.worst_rel_k} | {r.useless_k} | {r.cycles_max} | {r.cycles_mean:.2f} | |"
         )
     lines.append("")
@@ -74,6 +78,31 @@ def format_trade(k_max: int = 2047, bits: range = range(4, 21)) -> str:
         f"exact restoring divider, default widths: {divider.cycles_exact()} cycles for every k"
     )
     return "\n".join(lines)
+
+
+def accuracy_report() -> str:
+    """``make accuracy``: the figures table, then the tables the README carries (the model's
+    ``accuracy.figures`` computes everything; this only prints)."""
+    from model import accuracy
+
+    began = time.perf_counter()
+    figs = accuracy.figures()
+    parts = [
+        "== Every accuracy figure: its worst case and where it holds ==",
+        accuracy.format_figures(figs),
+        "== Specular: the float approximation (exact maxima per n) ==",
+        specular.format_brdf_table(),
+        "== Specular: the fixed-point unit, default configuration ==",
+        specular.format_accuracy_table(specular.DEFAULT, figs.specular["default"]),
+        "== Specular: per configuration ==",
+        specular.format_config_table(figs.specular),
+        "== Divider: worst error of 255/k and cycles, every k ==",
+        format_trade(),
+        "== Divider: the article's Table 1 ==",
+        format_table1(),
+        f"(computed in {time.perf_counter() - began:.1f} s)",
+    ]
+    return "\n\n".join(parts)
 
 
 def write_roms() -> None:
@@ -133,25 +162,55 @@ def bench(scene_name: str, size: int, repeats: int) -> int:
     return 0 if same else 1
 
 
+def int_in(lo: int, hi: int | None = None):
+    """An argparse ``type``: an integer in lo..hi (or >= lo); a bad value is refused by argparse
+    as ``argument --workers: -3 is not allowed: must be an integer >= 1`` (exit status 2)."""
+    legal = f"an integer >= {lo}" if hi is None else f"an integer in {lo}..{hi}"
+
+    def parse(text: str) -> int:
+        try:
+            value = int(text)
+        except ValueError:
+            raise argparse.ArgumentTypeError(f"{text!r} is not allowed: must be {legal}") from None
+        if value < lo or (hi is not None and value > hi):
+            raise argparse.ArgumentTypeError(f"{value} is not allowed: must be {legal}")
+        return value
+
+    return parse
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="shading", description=__doc__.split("\n")[0])
     parser.add_argument(
-        "command", choices=["demo", "bench", "roms", "divider-table", "divider-trade", "trade"]
+        "command",
+        choices=["demo", "bench", "roms", "divider-table", "divider-trade", "trade", "accuracy"],
     )
     scenes = ["sphere", "torus", "teapot", "quad"]
     parser.add_argument("--scene", default="teapot", choices=scenes)
     parser.add_argument(
-        "--size", type=int, default=None, help="image width and height (256; trade: 128)"
+        "--size",
+        type=int_in(8, 4096),
+        default=None,
+        help="image width and height, 8..4096 (256; trade: 128)",
     )
     parser.add_argument(
         "--out", type=Path, default=None, help="where outputs go (out; trade: out/trade)"
     )
-    parser.add_argument("--repeats", type=int, default=5, help="timed runs per method (bench)")
+    parser.add_argument(
+        "--repeats", type=int_in(1), default=5, help="timed runs per method, >= 1 (bench)"
+    )
     trade = parser.add_argument_group("trade")
     trade.add_argument("--scenes", nargs="+", choices=scenes, default=scenes)
     trade.add_argument("--grid", choices=["small", "full"], default="small")
-    trade.add_argument("--workers", type=int, default=None, help="local Dask worker processes")
-    trade.add_argument("--scheduler", default=None, help="address of an existing Dask scheduler")
+    where = trade.add_mutually_exclusive_group()
+    where.add_argument(
+        "--workers", type=int_in(1), default=None, help="local Dask worker processes, >= 1"
+    )
+    where.add_argument(
+        "--scheduler",
+        default=None,
+        help="address of an existing Dask scheduler (must answer within 5 s)",
+    )
     trade.add_argument("--figure", type=Path, default=None, help="also write trade_pareto.png here")
     args = parser.parse_args(argv)
     is_trade = args.command == "trade"
@@ -159,15 +218,30 @@ def main(argv: list[str] | None = None) -> int:
         args.size = 128 if is_trade else 256
     if args.out is None:
         args.out = Path("out/trade") if is_trade else Path("out")
-    if not 8 <= args.size <= 4096:
-        parser.error(f"--size = {args.size} is out of range: legal sizes are 8..4096")
-    if is_trade:
+    try:
+        return _run(args)
+    except Exception as exc:
+        from model.report import SetupError  # here: `divider-table` need not import the renderer
+
+        if not isinstance(exc, SetupError):
+            raise
+        # Found before any work (an unwritable --out, an unreachable --scheduler, a held lock):
+        # one line, no traceback.
+        print(f"{parser.prog} {args.command}: error: {exc}", file=sys.stderr)
+        return exc.status
+
+
+def _run(args: argparse.Namespace) -> int:
+    if args.command == "trade":
         from model import trade
 
         return trade.main(
             args.scenes, args.size, args.grid, args.out, args.workers, args.scheduler, args.figure
         )
     if args.command == "demo":
+        from model import report
+
+        report.check_output_dir("--out", args.out)
         return demo(args.scene, args.size, args.out)
     if args.command == "bench":
         return bench(args.scene, args.size, args.repeats)
@@ -177,6 +251,8 @@ def main(argv: list[str] | None = None) -> int:
         print(format_table1())
     elif args.command == "divider-trade":
         print(format_trade())
+    elif args.command == "accuracy":
+        print(accuracy_report())
     return 0
 
 

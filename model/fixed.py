@@ -82,11 +82,21 @@ def check_operand(name: str, value: int | np.ndarray, lo: int, hi: int) -> np.nd
     Non-integer input is refused rather than truncated: nothing is lost silently.
     """
     arr = np.asarray(value)
+    if arr.dtype == object and arr.size and all(_is_int(x) for x in arr.flat):
+        # Python ints beyond int64 (2**70): numpy keeps them as objects; compare them exactly.
+        outside = [int(x) for x in arr.flat if not lo <= int(x) <= hi]
+        if outside:
+            raise ValueError(f"{name} = {outside[0]} is out of range: legal range is {lo}..{hi}")
+        arr = arr.astype(np.int64)
     if arr.dtype.kind not in "iu":
         if arr.dtype.kind == "f" and np.all(np.isfinite(arr)) and np.all(arr == np.floor(arr)):
+            outside = (arr < lo) | (arr > hi)  # before the cast: 1e30 would wrap in int64
+            if outside.any():
+                first = float(arr[outside].flat[0])
+                raise ValueError(f"{name} = {first:g} is out of range: legal range is {lo}..{hi}")
             arr = arr.astype(np.int64)
         else:
-            raise ValueError(f"{name} must be an integer, got {value!r}")
+            raise ValueError(f"{name} must be an integer, got {value!r}: legal range is {lo}..{hi}")
     if arr.dtype.kind == "u" and arr.size and arr.max() > np.iinfo(np.int64).max:
         raise ValueError(f"{name} = {int(arr.max())} is out of range: legal range is {lo}..{hi}")
     arr = arr.astype(np.int64)
@@ -95,6 +105,10 @@ def check_operand(name: str, value: int | np.ndarray, lo: int, hi: int) -> np.nd
         first = int(arr[bad].flat[0])
         raise ValueError(f"{name} = {first} is out of range: legal range is {lo}..{hi}")
     return arr
+
+
+def _is_int(x) -> bool:
+    return isinstance(x, int | np.integer) and not isinstance(x, bool | np.bool_)
 
 
 @njit(cache=True)

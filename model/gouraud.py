@@ -64,10 +64,11 @@ class GouraudConfig:
     The default serves 8-bit intensities on scan lines up to 2047 pixels (``len_width`` = 11),
     8 pixels a clock (the article's choice, P = 8).  ``i_frac`` = 12: the host quantises the
     increment to the nearest 2**-12, an error of at most 2**-13 per pixel, which accumulated
-    over the 2046 steps of a 2047-pixel line stays within 2046 / 2**13 = 0.25 of an output level
-    (``drift_bound``); 11 fraction bits would give 0.4995, no margin before a rounding flip.  The
-    difference of two Q8.12 intensities is 21 bits signed: the shift-add divider's default
-    dividend width (``divider.DEFAULT.a_width``), and exactly ``di``'s format.
+    over the 2046 steps of a 2047-pixel line stays within 2046 / 2**13 = 0.2498 of an output
+    level (``drift_bound``; reached: ``drift_worst``); 11 fraction bits would give
+    1023 / 2**11 = 0.4996, no margin before a rounding flip.  The difference of two Q8.12
+    intensities is 21 bits signed: the shift-add divider's default dividend width
+    (``divider.DEFAULT.a_width``), and exactly ``di``'s format.
     """
 
     i_int: int = 8
@@ -461,3 +462,17 @@ def drift_bound(cfg: GouraudConfig = DEFAULT) -> float:
     """Worst drift, in output levels, of a rounded increment accumulated over the longest line:
     (len_max - 1) steps of at most 2**-(i_frac+1) each."""
     return (cfg.len_max - 1) / 2.0 ** (cfg.i_frac + 1)
+
+
+def drift_worst(cfg: GouraudConfig = DEFAULT) -> float:
+    """The exact worst drift, in output levels, of a rounded increment over the longest line.
+
+    A line of m pixels from I_a to I_b (Q``i_int``.``i_frac``, so D = I_b - I_a is an integer
+    number of 2**-i_frac) has m - 1 steps; the host rounds D / (m - 1) to the nearest integer q,
+    and the end pixel's value I_a + (m - 1) q misses I_b by |(m - 1) q - D|, the distance of D
+    to the nearest multiple of m - 1: at most floor((m - 1) / 2), reached by D = floor((m - 1)
+    / 2) itself.  The longest line is the worst: floor((len_max - 1) / 2)
+    * 2**-i_frac levels (``drift_bound``'s (len_max - 1) / 2**(i_frac+1) when len_max - 1 is
+    even, as for 2047 pixels).
+    """
+    return ((cfg.len_max - 1) // 2) / 2.0**cfg.i_frac

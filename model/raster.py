@@ -6,6 +6,8 @@
    y downwards; pixel (x, y) has its centre at (x + 0.5, y + 0.5).  Triangles with a vertex at
    or behind the near plane (camera depth <= ``NEAR``) are dropped (no clipping: the built-in
    scenes keep the camera outside every mesh) and counted in ``RenderStats.triangles_clipped``.
+   A drawn triangle with a corner beyond ``MAX_SCREEN_COORD`` (2**40) pixels is refused with a
+   ``ValueError`` naming the object, the triangle and the vertex.
 2. **Back faces.**  Default: culled.  A triangle is front-facing when its geometric normal
    (counter-clockwise winding) points towards the eye: ``((P1-P0) x (P2-P0)) . (eye-P0) > 0``.
    With ``cull_backfaces=False`` the renderer is two-sided: a back-facing triangle is drawn with
@@ -66,6 +68,12 @@ from model.scene import Material, Scene, SceneObject
 
 NEAR = 1e-3
 """Camera depth below which a vertex counts as behind the eye (its triangle is dropped)."""
+MAX_SCREEN_COORD = 2.0**40
+"""Largest |x|, |y| in pixels of a drawn triangle's projected corner.  The edge walk is float64:
+an edge crossing is found to about |corner| * 2**-51 pixels (2**-11 here), and beyond 2**63 the
+pixel indices overflow (a 1e18-unit triangle drew 0 pixels).  A triangle beyond it is refused
+with a ``ValueError`` naming it (it is not clipped: clipping would split it into polygons and
+break the per-edge slerp of the span set-up)."""
 
 LIGHT_DIRECTIONAL, LIGHT_POINT = 0, 1
 
@@ -471,6 +479,7 @@ def screen_spans(
     xy = np.asarray(screen_xy, dtype=np.float64)
     if xy.ndim != 3 or xy.shape[1:] != (3, 2):
         raise ValueError(f"screen_xy shape = {xy.shape} is not legal: legal shape is (T, 3, 2)")
+    _check_screen(xy[:, :, 0], xy[:, :, 1], np.ones(xy.shape[0], dtype=bool), "screen_xy")
     sx = np.ascontiguousarray(xy[:, :, 0])
     sy = np.ascontiguousarray(xy[:, :, 1])
     rows = np.clip(np.ceil(sy.max(axis=1) - 0.5), 0, height) - np.clip(
@@ -595,6 +604,28 @@ def _project(scene: Scene, points: np.ndarray) -> tuple[np.ndarray, np.ndarray, 
     return sx, sy, zc
 
 
+def _check_screen(sx, sy, keep, what: str, tri=None, vertices=None) -> None:
+    """Refuse a drawn triangle with a corner beyond ``MAX_SCREEN_COORD`` (or not finite)."""
+    with np.errstate(invalid="ignore"):
+        bad = keep[:, None] & ~((np.abs(sx) <= MAX_SCREEN_COORD) & (np.abs(sy) <= MAX_SCREEN_COORD))
+    if not bad.any():
+        return
+    t, c = (int(i) for i in np.argwhere(bad)[0])
+    corner = f"({float(sx[t, c]):.3g}, {float(sy[t, c]):.3g})"
+    hint = ""
+    if tri is None:
+        where = f"{what}[{t}, {c}] = {corner}"
+    else:
+        hint = " (scale the mesh down or move the camera away)"
+        v = int(tri[t, c])
+        world = ", ".join(f"{x:.3g}" for x in vertices[v])
+        where = f"{what}, triangle {t}, vertex {v} = ({world}) projects to {corner} and"
+    raise ValueError(
+        f"{where} is out of range: legal screen coordinates are |x|, |y| <= 2**40 "
+        f"= {MAX_SCREEN_COORD:.3g} pixels{hint}"
+    )
+
+
 def _rasterise_object(
     scene: Scene, index: int, obj: SceneObject, params: LightingParams, cull: bool, offset: int
 ) -> tuple[ObjectRaster, np.ndarray]:
@@ -610,6 +641,7 @@ def _rasterise_object(
     keep = ~clipped & ~culled
     sx = np.where(keep[:, None], sx_v[tri], 0.0)
     sy = np.where(keep[:, None], sy_v[tri], 0.0)
+    _check_screen(sx, sy, keep, f"object {index} ({mesh.name!r})", tri, mesh.vertices)
     # Corner attributes; back faces drawn two-sided get their normals negated.
     sign = np.where(facing, 1.0, -1.0)[:, None, None]
     cn = np.ascontiguousarray(mesh.normals[tri] * sign)

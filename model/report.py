@@ -12,6 +12,7 @@ the first call), as shaded pixels per second.
 from __future__ import annotations
 
 import math
+import os
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -32,6 +33,39 @@ METHOD_LABELS: dict[str, str] = {
 FLOAT_SHADERS = {"exact": reference.exact_blinn, "phong": reference.phong}
 DEFAULT_SCENE = "teapot"
 DEFAULT_SIZE = 256
+
+
+class SetupError(Exception):
+    """A command cannot start (an output folder it cannot write, an unreachable scheduler, a
+    sweep already running on the same cache): found before any work; the command line prints
+    the message as one line and exits with ``status`` (2: a bad argument, 1: otherwise)."""
+
+    def __init__(self, message: str, status: int = 1) -> None:
+        super().__init__(message)
+        self.status = status
+
+
+def check_output_dir(arg: str, path: Path) -> Path:
+    """Create ``path`` (a folder) and write a scratch file into it, before any work: or raise
+    ``SetupError`` (status 2) naming the argument ``arg``, the path and why it cannot be used."""
+    import tempfile
+
+    path = Path(path)
+    try:
+        path.mkdir(parents=True, exist_ok=True)
+        fd, scratch = tempfile.mkstemp(dir=path, prefix=".write-test-")
+        os.close(fd)
+        os.unlink(scratch)
+    except OSError as exc:
+        why = exc.strerror or exc.__class__.__name__
+        if path.exists() and not path.is_dir():
+            why = "it is a file, not a folder"
+        raise SetupError(
+            f"argument {arg}: '{path}' is not allowed: {why}: must be a folder this user can "
+            "create and write in",
+            status=2,
+        ) from None
+    return path
 
 
 def shader_for(method: str, cfg: pipeline.PipelineConfig | None = None) -> raster.Shader:

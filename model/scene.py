@@ -100,13 +100,31 @@ def vector3(name: str, value) -> tuple[float, float, float]:
 def unit3(name: str, value) -> tuple[float, float, float]:
     """A 3-vector normalised to unit length; a zero (or tiny) vector cannot be and is refused."""
     v = np.asarray(vector3(name, value))
-    norm = float(np.linalg.norm(v))
+    with np.errstate(over="ignore"):
+        norm = float(np.linalg.norm(v))
+    if math.isinf(norm):  # (0, 0, 1e300): scale first, then it normalises like any other
+        v = v / np.abs(v).max()
+        norm = float(np.linalg.norm(v))
     if norm < 1e-12:
         raise ValueError(
             f"{name} = {value!r} cannot be normalised: legal value is a finite non-zero 3-vector"
         )
     v = v / norm
     return (float(v[0]), float(v[1]), float(v[2]))
+
+
+def _scaled_rows(arr: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(rows, their lengths): a finite row whose length overflows (a normal (0, 0, 1e300)) is
+    first divided by its largest component, so it normalises like any other; other rows are
+    untouched (the same floats as a plain ``arr / norm``)."""
+    with np.errstate(over="ignore", invalid="ignore"):
+        norm = np.linalg.norm(arr, axis=1)
+    big = np.isinf(norm) & np.all(np.isfinite(arr), axis=1)
+    if big.any():
+        arr = arr.copy()
+        arr[big] /= np.abs(arr[big]).max(axis=1, keepdims=True)
+        norm[big] = np.linalg.norm(arr[big], axis=1)
+    return arr, norm
 
 
 def _is_numeric(value) -> bool:
@@ -255,7 +273,7 @@ class Mesh:
                 f"normals shape = {nrm.shape} is not legal: legal shape is {v.shape} "
                 f"(one per vertex)"
             )
-        length = np.linalg.norm(nrm, axis=1)
+        nrm, length = _scaled_rows(nrm)
         bad = ~np.isfinite(length) | (length < 1e-12)
         if bad.any():
             i = int(np.flatnonzero(bad)[0])
@@ -502,7 +520,8 @@ def read_bezier_patches(path: str | Path = TEAPOT_PATH) -> np.ndarray:
     """Read a geomview "BBP" file (bicubic Bezier patches): returns (P, 4, 4, 3) control points.
 
     The format: a first line "BBP", then 16 lines "x y z" per patch (row-major 4 x 4), patches
-    separated by blank lines.
+    separated by blank lines.  A file that breaks it raises ``ValueError`` naming the file, the
+    line and what was expected there.
     """
     p = Path(path)
     if not p.is_file():
@@ -510,16 +529,43 @@ def read_bezier_patches(path: str | Path = TEAPOT_PATH) -> np.ndarray:
             f"path = '{p}' does not exist: the teapot patches come from Debian's geomview package; "
             f"run `{TEAPOT_FETCH}` (or `make setup`) to fetch them"
         )
-    tokens = p.read_text().split()
-    if not tokens or tokens[0] != "BBP":
-        head = tokens[0] if tokens else ""
-        raise ValueError(f"{p}: first token = {head!r} is not legal: legal is 'BBP'")
-    values = np.array(tokens[1:], dtype=np.float64)
-    if values.size == 0 or values.size % 48:
+    try:
+        text = p.read_text()
+    except (OSError, UnicodeDecodeError) as exc:
         raise ValueError(
-            f"{p}: {values.size} numbers is not legal: legal is a multiple of 48 (16 points x 3)"
+            f"{p}: cannot be read as a text file ({exc}): expected a BBP file"
+        ) from None
+    numbered = [(i, line.strip()) for i, line in enumerate(text.splitlines(), 1) if line.strip()]
+    if not numbered or numbered[0][1] != "BBP":
+        where, head = numbered[0] if numbered else (1, "")
+        raise ValueError(f"{p}, line {where}: {head[:40]!r} is not legal: expected 'BBP'")
+    points, first_line = [], []
+    for i, line in numbered[1:]:
+        fields = line.split()
+        try:
+            xyz = [float(f) for f in fields]
+        except ValueError:
+            xyz = []
+        if len(xyz) != 3 or not all(map(math.isfinite, xyz)):
+            raise ValueError(
+                f"{p}, line {i}: {line[:60]!r} is not legal: expected three finite numbers "
+                f"'x y z' (one control point; 16 per patch)"
+            )
+        if len(points) % 16 == 0:
+            first_line.append(i)
+        points.append(xyz)
+    if not points:
+        raise ValueError(
+            f"{p}, line {numbered[0][0]}: 'BBP' and no control point after it: expected 16 "
+            f"lines 'x y z' per patch"
         )
-    return values.reshape(-1, 4, 4, 3)
+    if len(points) % 16:
+        raise ValueError(
+            f"{p}: {3 * len(points)} numbers is not legal: expected a multiple of 48 (16 points "
+            f"x 3 per patch); the last patch, from line {first_line[-1]}, has "
+            f"{len(points) % 16} of its 16 points"
+        )
+    return np.array(points, dtype=np.float64).reshape(-1, 4, 4, 3)
 
 
 def _bernstein(t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

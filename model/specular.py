@@ -89,31 +89,144 @@ def _check_n_k(n: int, k: int) -> None:
     fixed.check_operand("k", k, 1, 64)
 
 
-def brdf_max_rel_error(n: int, k: int, alpha: str = "taylor", samples: int = 20001) -> float:
-    """Max |cos^k(a d) - cos^n d| / cos^n d over the epicentre d in [0, arctan(1/sqrt(n-1))].
+def brdf_max_rel_error(n: int, k: int, alpha: str = "taylor", floor: float = 0.0) -> float:
+    """Max |cos^k(a d) - cos^n d| / cos^n d over the epicentre d in [0, arctan(1/sqrt(n-1))],
+    exactly (not sampled), where also cos^n d >= ``floor`` (0: the whole epicentre; for n = 1
+    it ends at the float pi/2, where cos is 6e-17, not 0).
 
-    ``samples`` equally spaced points (SEEDS.md's independent figures use 20 001).  Points where
-    cos^n is 0 in float (d = pi/2 for n = 1) are left out: the relative error is undefined there.
+    Why the maximum is one of at most three points (``_rel_error_max``): with r(d) =
+    cos^k(a d) / cos^n d, (log r)' = n tan d - k a tan(a d) = tan d * (n - k a h(d)) with
+    h(d) = tan(a d) / tan d.  For a > 1, h is strictly increasing on (0, pi/(2a)) (its log
+    derivative 2a / sin(2ad) - 2 / sin(2d) > 0 because sin(x)/x decreases on (0, pi]); for
+    a < 1 strictly decreasing; for a = 1 constant.  So (log r)' changes sign at most once: r is
+    unimodal, and |r - 1| is largest at d = 0 (0), at the end of the range, or at the one root
+    of n = k a h(d) (found by bisection to the last float).  Once a d >= pi/2 the approximation
+    is 0 and the error 1, which the end point gives.  For a = sqrt(n/k) there is no root at all
+    (h starts at a and moves away from n / (k a) = a): the error grows monotonically to the end.
     """
     _check_n_k(n, k)
-    return _brdf_max_rel_error(int(n), int(k), alpha, int(samples))
+    return _brdf_max_rel_error(int(n), int(k), alpha, float(floor))
 
 
 @functools.cache
-def _brdf_max_rel_error(n: int, k: int, alpha: str, samples: int) -> float:
-    d = np.linspace(0.0, epicentre(n), samples)
-    exact = np.cos(d) ** n
-    keep = exact > 0
-    approx = brdf_approx(d[keep], n, k, alpha)
-    return float(np.max(np.abs(approx - exact[keep]) / exact[keep]))
+def _brdf_max_rel_error(n: int, k: int, alpha: str, floor: float) -> float:
+    d_end = epicentre(n)
+    if floor > 0:
+        d_end = min(d_end, math.acos(floor ** (1.0 / n)))
+    return float(_rel_error_max(n, k, alpha_value(n, k, alpha), d_end))
 
 
-def brdf_max_abs_error(n: int, k: int, alpha: str = "taylor", samples: int = 20001) -> float:
-    """Max |cos^k(a d) - max(0, cos d)^n| over the whole range d in [0, pi] (full scale = 1)."""
+@njit(cache=True)
+def _rel_error_at(d: float, n: int, k: int, a: float) -> float:
+    return abs(np.cos(min(a * d, np.pi / 2)) ** k / np.cos(d) ** n - 1.0)
+
+
+@njit(cache=True)
+def _rel_error_max(n: int, k: int, a: float, d_end: float) -> float:
+    """max over d in [0, d_end] of |cos^k(min(a d, pi/2)) / cos^n d - 1| (``brdf_max_rel_error``
+    says why the end point and the one root of n - k a tan(a d) / tan(d) are enough)."""
+    best = _rel_error_at(d_end, n, k, a)
+    s0 = n - k * a * a  # n - k a h(d) as d -> 0
+    clipped = a * d_end >= np.pi / 2  # the approximation reaches 0 inside the range
+    s1 = -np.inf if clipped else n - k * a * np.tan(a * d_end) / np.tan(d_end)
+    if s0 == 0.0 or s1 == 0.0 or (s0 > 0.0) == (s1 > 0.0):
+        return best
+    lo, hi = 0.0, min(d_end, np.pi / (2 * a))
+    while True:  # bisection down to adjacent floats
+        mid = 0.5 * (lo + hi)
+        if mid <= lo or mid >= hi:
+            break
+        if (n - k * a * np.tan(a * mid) / np.tan(mid) > 0.0) == (s0 > 0.0):
+            lo = mid
+        else:
+            hi = mid
+    return max(best, _rel_error_at(lo, n, k, a), _rel_error_at(hi, n, k, a))
+
+
+ABS_ERROR_TOL = 1e-9
+"""``brdf_max_abs_error`` is certified to lie at most this much (full scale 1) above the true
+maximum, never below it."""
+
+
+def brdf_max_abs_error(n: int, k: int, alpha: str = "taylor") -> float:
+    """Max |cos^k(a d) - max(0, cos d)^n| over d in [0, pi] (full scale = 1): an upper bound at
+    most ``ABS_ERROR_TOL`` above the true maximum, by branch and bound (``_abs_error_max``).
+
+    The error e is piecewise C^1 with a Lipschitz derivative: |(cos^m)''| =
+    |m(m-1) cos^(m-2) sin^2 - m cos^m| <= max(2(m-1), m) <= 2m (cos^(m-2) sin^2 <= 2/m), so
+    |e''| <= M = 2 k a^2 + 2 n away from the kinks (a d = pi/2 for k = 1, d = pi/2 for n = 1,
+    where the grid is cut).  On a cell [x0, x1] of width h, |e| <= max(|e(x0)|, |e(x1)|) +
+    M h^2 / 8; cells are split until that bound is within the tolerance of the best value
+    seen.  For n = k the two sides are the same function but for the rounding of a:
+    |e| <= S_k |a - 1| pi, S_k the largest slope of cos^k (``cos_power_max_slope``).
+    """
     _check_n_k(n, k)
-    d = np.linspace(0.0, np.pi, samples)
-    exact = np.maximum(np.cos(d), 0.0) ** n
-    return float(np.max(np.abs(brdf_approx(d, n, k, alpha) - exact)))
+    return _brdf_max_abs_error(int(n), int(k), alpha)
+
+
+@functools.cache
+def _brdf_max_abs_error(n: int, k: int, alpha: str) -> float:
+    a = alpha_value(n, k, alpha)
+    if n == k:
+        return cos_power_max_slope(k) * abs(a - 1.0) * math.pi
+    return float(_abs_error_max(n, k, a, ABS_ERROR_TOL, 256))
+
+
+def cos_power_max_slope(k: int) -> float:
+    """max over x of |d/dx cos^k x| = sqrt(k) ((k-1)/k)^((k-1)/2), at tan^2 x = 1/(k-1)."""
+    return 1.0 if k == 1 else math.sqrt(k) * ((k - 1) / k) ** ((k - 1) / 2)
+
+
+@njit(cache=True)
+def _abs_error_at(d: float, n: int, k: int, a: float) -> float:
+    return abs(np.cos(min(a * d, np.pi / 2)) ** k - max(np.cos(d), 0.0) ** n)
+
+
+@njit(cache=True)
+def _abs_error_max(n: int, k: int, a: float, tol: float, grid: int) -> float:
+    """Branch and bound for ``brdf_max_abs_error``: returns an upper bound within tol of the
+    maximum (depth first; every discarded cell's bound is kept in the result)."""
+    m2 = 2.0 * k * a * a + 2.0 * n
+    cuts = [0.0, np.pi]
+    if k == 1 and a > 0.5:
+        cuts.append(np.pi / (2 * a))
+    if n == 1:
+        cuts.append(np.pi / 2)
+    cuts.sort()
+    cap = 1 << 14
+    x0s, x1s = np.empty(cap), np.empty(cap)
+    e0s, e1s = np.empty(cap), np.empty(cap)
+    best = _abs_error_at(0.0, n, k, a)
+    top = 0
+    for p in range(len(cuts) - 1):
+        lo, hi = cuts[p], cuts[p + 1]
+        if hi <= lo:
+            continue
+        x_prev, e_prev = lo, _abs_error_at(lo, n, k, a)
+        for g in range(1, grid + 1):
+            x = hi if g == grid else lo + (hi - lo) * g / grid
+            e = _abs_error_at(x, n, k, a)
+            best = max(best, e)
+            x0s[top], x1s[top], e0s[top], e1s[top] = x_prev, x, e_prev, e
+            top += 1
+            x_prev, e_prev = x, e
+    bound = best
+    while top > 0:
+        top -= 1
+        x0, x1, e0, e1 = x0s[top], x1s[top], e0s[top], e1s[top]
+        cell = max(e0, e1) + m2 * (x1 - x0) ** 2 / 8.0
+        xm = 0.5 * (x0 + x1)
+        if cell <= best + tol or xm <= x0 or xm >= x1:
+            bound = max(bound, cell)
+            continue
+        if top + 2 > cap:
+            raise RuntimeError("branch and bound stack overflow")
+        em = _abs_error_at(xm, n, k, a)
+        best = max(best, em)
+        x0s[top], x1s[top], e0s[top], e1s[top] = x0, xm, e0, em
+        x0s[top + 1], x1s[top + 1], e0s[top + 1], e1s[top + 1] = xm, x1, em, e1
+        top += 2
+    return max(bound, best)
 
 
 def _n_k_pairs(ranges) -> list[tuple[int, int]]:
@@ -134,7 +247,8 @@ class SpecularConfig:
     Why these defaults:
     * ``rom_addr_bits`` = 12: the address half-step is pi/2 * 2**-13 = 1.9e-4 rad of the scaled
       angle; at the edge of the highlight epicentre cos^16 has a relative slope of about 4/rad,
-      so the table adds < 0.1 % to the approximation's own <= 1.09 %;
+      so the table adds at most 0.083 % (n >= 2, ``make accuracy``) to the approximation's own
+      <= 1.0895 %;
     * ``z_frac_bits`` = 26: with dz and z0 rounded to 2**-27, the accumulated angle after
       l <= 2047 intervals is within 2048 * 2**-27 = 2**-16 (units of pi/2) of the exact
       z0 + t*gamma; times the largest a (sqrt(1000/16) = 7.9) that is 1.2e-4, half a ROM-12
@@ -192,10 +306,7 @@ class SpecularConfig:
                 )
         a_max = max(alpha_value(n, k, self.alpha) for n, k in _n_k_pairs(ranges))
         if round(a_max * 2**self.a_frac_bits) >= 1 << self.a_width:
-            raise ValueError(
-                f"a_int_bits = {self.a_int_bits} is out of range: the largest a = {a_max:.4f} "
-                f"needs {math.floor(math.log2(a_max)) + 1} integer bits"
-            )
+            raise ValueError(_a_width_message(a_max, self.a_int_bits, self.a_frac_bits))
 
     # ---------------------------------------------------------------- derived widths
     @property
@@ -288,6 +399,11 @@ class SpecularConfig:
         )
 
     @property
+    def rom_ks(self) -> tuple[int, int, int, int]:
+        """k of each of the four decoder outputs, 0 for an unused one (RTL K0..K3)."""
+        return (*self.ks, *(0,) * (MAX_TABLES - self.num_tables))
+
+    @property
     def a_rom_name(self) -> str:
         return f"specular_a_{self.alpha}_{self.rom_tag}_q{self.a_int_bits}.{self.a_frac_bits}.hex"
 
@@ -299,6 +415,7 @@ class SpecularConfig:
     def hdl_parameters(self) -> dict[str, object]:
         """The Verilog parameters of ``rtl/specular_unit.v`` for this configuration."""
         hi = list(self.n_hi) + [N_MAX] * (MAX_TABLES - self.num_tables)
+        ks = self.rom_ks
         return {
             "C_INT_BITS": self.c_int_bits,
             "C_FRAC_BITS": self.c_frac_bits,
@@ -315,6 +432,11 @@ class SpecularConfig:
             "N_HI1": hi[1],
             "N_HI2": hi[2],
             "N_HI3": hi[3],
+            "K0": ks[0],
+            "K1": ks[1],
+            "K2": ks[2],
+            "K3": ks[3],
+            "ALPHA": self.alpha,
             "MAG_INT_BITS": self.mag_int_bits,
             "A_ROM_FILE": str(rom_path(self, "a")),
             "COS_ROM_FILE": str(rom_path(self, "cos")),
@@ -344,6 +466,28 @@ def _check_k_ranges(ranges: tuple[tuple[int, int, int], ...]) -> None:
         raise ValueError(
             f"k_ranges end at n = {expect_lo - 1}: out of range, they must end at n = {N_MAX}"
         )
+
+
+def _a_width_message(a_max: float, int_bits: int, frac_bits: int) -> str:
+    """Why ROM 9's Q``int_bits``.``frac_bits`` cannot hold the largest a, and what would.
+
+    The word is a rounded to ``frac_bits`` fraction bits, so a = 7.9057 needs 4 integer bits at
+    1 fraction bit (it rounds to 8) but 3 at 14: the message names both fields."""
+    word = round(a_max * 2**frac_bits)
+    need = word.bit_length() - frac_bits
+    frac_ok = next(
+        (f for f in range(frac_bits + 1, 25) if round(a_max * 2**f) < 1 << (int_bits + f)), None
+    )
+    legal = f"a_int_bits >= {need} with a_frac_bits = {frac_bits}"
+    if frac_ok is not None:
+        legal += f", or a_frac_bits >= {frac_ok} with a_int_bits = {int_bits}"
+    why = f"the largest a = {a_max:.4f} needs {need} integer bits"
+    if need > math.floor(math.log2(a_max)) + 1:
+        why = (
+            f"the largest a = {a_max:.4f} rounds to {word / 2**frac_bits:g} at "
+            f"a_frac_bits = {frac_bits} (the ROM 9 word), which needs {need} integer bits"
+        )
+    return f"a_int_bits = {int_bits} is out of range: {why}: legal is {legal}"
 
 
 @functools.cache
@@ -442,6 +586,39 @@ def rom12_words(cfg: SpecularConfig = DEFAULT) -> np.ndarray:
     return words
 
 
+def rom_layout(cfg: SpecularConfig = DEFAULT, which: str = "a") -> rom.RomLayout:
+    """The image of ROM 9 (``which="a"``) or ROM 12 (``"cos"``) and the RTL parameters its
+    contents depend on (``rom.KIND_FIELDS``)."""
+    ks = tuple(zip(("K0", "K1", "K2", "K3"), cfg.rom_ks, strict=True))
+    if which == "a":
+        hi = (*cfg.n_hi, *(N_MAX,) * (MAX_TABLES - cfg.num_tables))
+        config = (
+            ("A_INT_BITS", cfg.a_int_bits),
+            ("A_FRAC_BITS", cfg.a_frac_bits),
+            ("ALPHA", rom.ALPHA_NAMES.index(cfg.alpha)),
+            ("NUM_TABLES", cfg.num_tables),
+            *zip(("N_HI0", "N_HI1", "N_HI2", "N_HI3"), hi, strict=True),
+            *ks,
+        )
+        return rom.RomLayout("specular_a", 1 << N_WIDTH, cfg.a_width, config)
+    if which == "cos":
+        config = (
+            ("ROM_ADDR_BITS", cfg.rom_addr_bits),
+            ("ROM_DATA_BITS", cfg.rom_data_bits),
+            ("NUM_TABLES", cfg.num_tables),
+            *ks,
+        )
+        depth = 1 << (cfg.tsel_bits + cfg.rom_addr_bits)
+        return rom.RomLayout("specular_cos", depth, cfg.rom_data_bits, config)
+    raise ValueError(f"which = {which!r} is out of range: legal are 'a', 'cos'")
+
+
+def read_rom(cfg: SpecularConfig = DEFAULT, which: str = "a", path=None) -> list[int]:
+    """The data words of the image at ``path`` (default ``rom_path(cfg, which)``), checked
+    against ``cfg`` (``rom.read_hex``: a bad or foreign image raises ``rom.RomFileError``)."""
+    return rom.read_hex(rom_path(cfg, which) if path is None else path, rom_layout(cfg, which))
+
+
 def rom_text(cfg: SpecularConfig = DEFAULT, which: str = "a") -> str:
     """The ``$readmemh`` image of ROM 9 (``which="a"``) or ROM 12 (``which="cos"``)."""
     ranges = ", ".join(f"{lo}..{hi} -> k = {k}" for lo, hi, k in cfg.k_ranges)
@@ -451,7 +628,7 @@ def rom_text(cfg: SpecularConfig = DEFAULT, which: str = "a") -> str:
             f"unsigned Q{cfg.a_int_bits}.{cfg.a_frac_bits}\n"
             f"k ranges: {ranges}; invalid n (0, >{N_MAX}) hold 0. Generated by model.specular."
         )
-        return rom.format_hex(rom9_words(cfg), cfg.a_width, header)
+        return rom.format_image(rom9_words(cfg), rom_layout(cfg, "a"), header)
     if which == "cos":
         header = (
             f"specular_unit ROM 12: cos^k(i/2^{cfg.rom_addr_bits} * pi/2) * 2^{cfg.rom_data_bits}"
@@ -459,7 +636,7 @@ def rom_text(cfg: SpecularConfig = DEFAULT, which: str = "a") -> str:
             f"address = {{table ({cfg.tsel_bits} bits), i ({cfg.rom_addr_bits} bits)}}; "
             "unused tables hold 0. Generated by model.specular."
         )
-        return rom.format_hex(rom12_words(cfg), cfg.rom_data_bits, header)
+        return rom.format_image(rom12_words(cfg), rom_layout(cfg, "cos"), header)
     raise ValueError(f"which = {which!r} is out of range: legal are 'a', 'cos'")
 
 
@@ -672,10 +849,30 @@ def _unit_vector(name: str, v) -> np.ndarray:
     arr = np.asarray(v, dtype=np.float64)
     if arr.shape != (3,) or not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} = {v!r} is out of range: legal is a finite 3-vector")
-    norm = float(np.linalg.norm(arr))
+    with np.errstate(over="ignore"):
+        norm = float(np.linalg.norm(arr))
+    if math.isinf(norm):  # (0, 0, 1e300): scale first, then it normalises like any other
+        arr = arr / np.abs(arr).max()
+        norm = float(np.linalg.norm(arr))
     if norm < _EPS:
-        raise ValueError(f"{name} = {v!r} is out of range: legal is a non-zero 3-vector")
+        raise ValueError(
+            f"{name} = {v!r} is out of range: legal is a non-zero 3-vector (length >= {_EPS:g})"
+        )
     return arr / norm
+
+
+def _scaled_rows(arr: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(rows, their lengths), rows whose length overflows (a normal (0, 0, 1e300)) first
+    divided by their largest component, so that they normalise like any other; the other rows
+    are untouched (the same float values as a plain ``arr / norm``)."""
+    with np.errstate(over="ignore"):
+        norm = np.linalg.norm(arr, axis=1)
+    big = np.isinf(norm)
+    if big.any():
+        arr = arr.copy()
+        arr[big] /= np.abs(arr[big]).max(axis=1, keepdims=True)
+        norm[big] = np.linalg.norm(arr[big], axis=1)
+    return arr, norm
 
 
 @njit(cache=True)
@@ -811,11 +1008,14 @@ def _unit_rows(name: str, v) -> np.ndarray:
     arr = np.asarray(v, dtype=np.float64)
     if arr.ndim != 2 or arr.shape[1] != 3 or not np.all(np.isfinite(arr)):
         raise ValueError(f"{name} is out of range: legal is an (S, 3) array of finite vectors")
-    norm = np.linalg.norm(arr, axis=1)
+    scaled, norm = _scaled_rows(arr)
     if arr.shape[0] and norm.min() < _EPS:
         bad = int(np.argmin(norm))
-        raise ValueError(f"{name}[{bad}] = {arr[bad]!r} is out of range: legal is non-zero")
-    return arr / norm[:, None]
+        raise ValueError(
+            f"{name}[{bad}] = {arr[bad].tolist()} is out of range: legal is a non-zero 3-vector "
+            f"(length >= {_EPS:g})"
+        )
+    return scaled / norm[:, None]
 
 
 def setup_lines(n1, n2, h1, h2, n, light, length, cfg: SpecularConfig = DEFAULT) -> LineSetups:
@@ -908,13 +1108,35 @@ def blinn_line(n1, n2, h1, h2, n: int, light: float, length: int, out_max: int =
 
 # ==================================================================== fixed-point accuracy
 @dataclass(frozen=True)
-class Accuracy:
-    """Accuracy of one configuration for every n = 1..1000 (arrays indexed n - 1)."""
+class Worst:
+    """A worst case and registers that reach it: ``shade_line(c, 0, z, n, 0)`` (one pixel, angle
+    register z0 = z) gives the output whose distance from the reference is ``value``."""
 
-    float_rel: np.ndarray  # the float approximation cos^k(a d) vs cos^n d, epicentre
-    rom_rel: np.ndarray  # the ROM-12 path (fixed-point angle, a, address, table) vs cos^n
-    out_lsb_exact: np.ndarray  # output vs C*max(0,cos)^n, C full scale, zeta in [0, 2] (LSBs)
-    out_lsb_approx: np.ndarray  # output vs the float approximation C*cos^k(a*zeta) (LSBs)
+    value: float
+    n: int
+    c: int
+    z: int
+
+
+@dataclass(frozen=True)
+class Accuracy:
+    """Accuracy of one configuration for every n = 1..1000 (arrays indexed n - 1).
+
+    Every figure is a worst case over every input it names (``fixed_point_accuracy`` says why
+    the inputs it evaluates are enough); "full scale" is C = 2**out_width - 1 (255).
+    """
+
+    float_rel: np.ndarray  # float cos^k(a d) vs cos^n d, epicentre where cos^n >= REL_FLOOR
+    rom_rel: np.ndarray  # the ROM-12 word vs cos^n, every angle register value of that range
+    out_lsb_exact: np.ndarray  # output vs C max(0, cos)^n, C full scale, |zeta| <= 3pi/2 (LSB)
+    out_lsb_approx: np.ndarray  # output vs C cos^k(a zeta), C full scale, every angle (LSB)
+    rom_rel_z: np.ndarray  # an angle register value where rom_rel is reached
+    out_exact_z: np.ndarray  # ... out_lsb_exact
+    out_approx_z: np.ndarray  # ... out_lsb_approx
+    approx_c_full: Worst  # output vs C cos^k(a zeta): every n, angle and C <= full scale
+    approx_any_c: Worst  # ... every C register value (up to 255.996: the output saturates)
+    exact_c_full: Worst  # output vs C max(0, cos)^n: every n, |zeta| <= 3pi/2, C <= full scale
+    exact_any_c: Worst  # ... every C register value
 
 
 REL_FLOOR = 1.0 / 255
@@ -922,51 +1144,264 @@ REL_FLOOR = 1.0 / 255
 n = 1's epicentre (the whole quadrant, down to cos = 0) reaches below it."""
 
 
-def fixed_point_accuracy(cfg: SpecularConfig = DEFAULT, samples: int = 4097) -> Accuracy:
-    """Measure the unit against float cos^n for every n (``samples`` angles per n and range)."""
+def fixed_point_accuracy(cfg: SpecularConfig = DEFAULT) -> Accuracy:
+    """The unit against float cos^n and against its float approximation, every n = 1..1000,
+    every angle register value (exhaustive; cached per configuration).
+
+    Why evaluating two angles per ROM-12 address is exhaustive: the unit's word depends on the
+    angle register z only through the address round(|z| a / 2**addr_shift), so the |z| of one
+    address form an integer interval [lo, hi] (computed exactly; past the last address, from
+    the overflow on, the word is 0).  On it the word, and for a given C the output, are
+    constant, while each reference (cos^n, cos^k(a zeta), both non-increasing in |zeta| on the
+    ranges used) is monotone: the distance |constant - reference| is largest at lo or hi.  So
+    the ROM-12 path's relative error (|z| from 0 to the last register value in the epicentre
+    with cos^n >= ``REL_FLOOR``), the output at full scale against cos^n (|zeta| <= 3pi/2,
+    every angle ``setup_line`` produces: beyond it cos^n would rise again) and against
+    cos^k(a zeta) (every register value) are exact maxima over every integer angle.  The sign
+    does not matter (the unit takes |acc|, the references are even) and the clamp of |zeta|
+    before multiplier 11 never changes a word (``mag_int_bits``).
+
+    Every C at once: for one table and address the output round(C w) is fixed by C and the
+    word w, and the distance |round(C w) - C f| is linear in the reference value f, so it is
+    largest at the smallest or largest f any n of that table reaches at that address (both
+    kept).  Every (table, address) gets the bound max(1/2, C_max w - out_max) + C_max |w - f|
+    (rounding or saturation, plus the reference's distance); in decreasing order of that bound
+    each is scanned over every C register value until the bound cannot beat the worst found.
+    ``tests/test_accuracy.py`` checks all of it against a brute force over every n, angle and C
+    of a reduced unit, and replays each worst case through ``shade_line``.
+    """
+    return _accuracy(cfg)
+
+
+@functools.cache
+def _accuracy(cfg: SpecularConfig) -> Accuracy:
     t = _tables(cfg)
-    scale = 2.0**cfg.z_frac_bits
+    ns = np.arange(1, N_MAX + 1, dtype=np.int64)
+    tsel = np.ascontiguousarray(t.tsel[1 : N_MAX + 1])
+    ks = np.asarray(cfg.ks, dtype=np.int64)[tsel]
+    pairs = list(zip(ns.tolist(), ks.tolist(), strict=True))
+    a_float = np.array([alpha_value(n, k, cfg.alpha) for n, k in pairs])
+    float_rel = np.array([brdf_max_rel_error(n, k, cfg.alpha, REL_FLOOR) for n, k in pairs])
+    size = 1 << cfg.rom_addr_bits
+    shape = (2, cfg.num_tables, size + 1)
+    f_min, f_max = np.full(shape, np.inf), np.full(shape, -np.inf)
+    f_n, f_z = np.zeros((2, *shape), dtype=np.int64), np.zeros((2, *shape), dtype=np.int64)
+    per_n = np.zeros((3, N_MAX))
+    per_z = np.zeros((3, N_MAX), dtype=np.int64)
     c_full = cfg.out_max << cfg.c_frac_bits
-    out_shift = cfg.c_frac_bits + cfg.rom_data_bits
-    float_rel = np.empty(N_MAX)
-    rom_rel = np.empty(N_MAX)
-    out_exact = np.empty(N_MAX)
-    out_approx = np.empty(N_MAX)
-    z_all = np.unique(np.floor(np.linspace(0.0, 2.0, 2 * samples) * scale + 0.5).astype(np.int64))
-    zeta_all = z_all / scale * (np.pi / 2)
-    for n in range(1, N_MAX + 1):
-        k = int(cfg.ks[t.tsel[n]])
-        a_word, tsel = int(t.rom9[n]), int(t.tsel[n])
-        float_rel[n - 1] = brdf_max_rel_error(n, k, cfg.alpha)
-        z = np.unique(np.floor(np.linspace(0.0, epicentre(n) / (np.pi / 2), samples) * scale + 0.5))
-        z = z.astype(np.int64)
-        zeta = z / scale * (np.pi / 2)
-        exact = np.cos(zeta) ** n
-        words = np.empty(z.size, dtype=np.int64)
-        _rom12_path(z, a_word, tsel, t.rom12, t.mag_max, cfg.addr_shift, cfg.rom_addr_bits, words)
-        keep = exact >= REL_FLOOR
-        rom_rel[n - 1] = np.max(
-            np.abs(words[keep] / 2.0**cfg.rom_data_bits - exact[keep]) / exact[keep]
-        )
-        out = np.empty(z_all.size, dtype=np.int64)
-        _pixels(
-            z_all,
-            c_full,
-            a_word,
-            tsel,
-            t.rom12,
-            t.mag_max,
-            cfg.addr_shift,
-            cfg.rom_addr_bits,
-            out_shift,
-            cfg.out_max,
-            out,
-        )
-        ref_exact = cfg.out_max * np.maximum(np.cos(zeta_all), 0.0) ** n
-        ref_approx = cfg.out_max * brdf_approx(zeta_all, n, k, cfg.alpha)
-        out_exact[n - 1] = np.max(np.abs(out - ref_exact))
-        out_approx[n - 1] = np.max(np.abs(out - ref_approx))
-    return Accuracy(float_rel, rom_rel, out_exact, out_approx)
+    _exhaustive_angles(
+        ns, ks, a_float, np.ascontiguousarray(t.rom9[1 : N_MAX + 1]), tsel, t.rom12,
+        cfg.rom_addr_bits, cfg.addr_shift, cfg.z_frac_bits, cfg.rom_data_bits, c_full,
+        cfg.c_frac_bits, cfg.out_max, REL_FLOOR, per_n, per_z, f_min, f_max, f_n, f_z,
+    )  # fmt: skip
+    words = np.zeros((cfg.num_tables, size + 1), dtype=np.int64)
+    for j in range(cfg.num_tables):
+        words[j, :size] = t.rom12[j * size : (j + 1) * size]
+    worst = {}
+    for ref in (0, 1):
+        for c_lim in (c_full, cfg.c_format.hi):
+            value, j, i, c, side = _every_c(
+                words, f_min[ref], f_max[ref], c_lim, cfg.c_frac_bits, cfg.rom_data_bits,
+                cfg.out_max,
+            )  # fmt: skip
+            n, z = int(f_n[ref, side, j, i]), int(f_z[ref, side, j, i])
+            worst[ref, c_lim] = Worst(float(value), n, int(c), z)
+    return Accuracy(
+        float_rel=float_rel,
+        rom_rel=per_n[0],
+        out_lsb_exact=per_n[2],
+        out_lsb_approx=per_n[1],
+        rom_rel_z=per_z[0],
+        out_exact_z=per_z[2],
+        out_approx_z=per_z[1],
+        approx_c_full=worst[0, c_full],
+        approx_any_c=worst[0, cfg.c_format.hi],
+        exact_c_full=worst[1, c_full],
+        exact_any_c=worst[1, cfg.c_format.hi],
+    )
+
+
+@njit(cache=True)
+def _references(z: int, zf: int, n: int, k: int, a: float) -> tuple[float, float]:
+    """(cos^k(a zeta) clipped at pi/2, max(0, cos zeta)^n) at angle register value z."""
+    zeta = z / 2.0**zf * (np.pi / 2)
+    return np.cos(min(a * zeta, np.pi / 2)) ** k, max(np.cos(zeta), 0.0) ** n
+
+
+@njit(cache=True)
+def _in_epicentre(z: int, zf: int, n: int, d_e: float, floor: float) -> bool:
+    zeta = z / 2.0**zf * (np.pi / 2)
+    return zeta <= d_e and np.cos(zeta) ** n >= floor
+
+
+@njit(cache=True)
+def _epicentre_end(n: int, zf: int, floor: float) -> int:
+    """The largest angle register value in the epicentre with cos^n >= floor."""
+    d_e = np.pi / 2 if n == 1 else np.arctan(1.0 / np.sqrt(n - 1.0))
+    z = int(d_e / (np.pi / 2) * 2.0**zf)
+    while _in_epicentre(z + 1, zf, n, d_e, floor):
+        z += 1
+    while z > 0 and not _in_epicentre(z, zf, n, d_e, floor):
+        z -= 1
+    return z
+
+
+@njit(cache=True)
+def _extremes(f_min, f_max, f_n, f_z, ref: int, tab: int, i: int, f: float, n: int, z: int):
+    """Keep the smallest and largest reference value seen at (table, address), and where."""
+    if f < f_min[ref, tab, i]:
+        f_min[ref, tab, i] = f
+        f_n[ref, 0, tab, i], f_z[ref, 0, tab, i] = n, z
+    if f > f_max[ref, tab, i]:
+        f_max[ref, tab, i] = f
+        f_n[ref, 1, tab, i], f_z[ref, 1, tab, i] = n, z
+
+
+@njit(cache=True)
+def _exhaustive_angles(
+    ns: np.ndarray,
+    ks: np.ndarray,
+    a_float: np.ndarray,
+    a_word: np.ndarray,
+    tsel: np.ndarray,
+    rom12: np.ndarray,
+    addr_bits: int,
+    shift: int,
+    zf: int,
+    data_bits: int,
+    c_full: int,
+    c_frac: int,
+    out_max: int,
+    floor: float,
+    per_n: np.ndarray,
+    per_z: np.ndarray,
+    f_min: np.ndarray,
+    f_max: np.ndarray,
+    f_n: np.ndarray,
+    f_z: np.ndarray,
+) -> None:
+    """``fixed_point_accuracy``'s walk over both ends of every address's angle interval.
+
+    per_n[0] / per_z[0]: ROM-12 relative error in the epicentre; [1]: output vs cos^k(a zeta) at
+    full scale; [2]: output vs cos^n at full scale.  f_min / f_max[ref, table, address] (ref 0:
+    cos^k(a zeta), 1: cos^n), with the n and z reaching them in f_n / f_z[ref, 0 (min) | 1].
+    """
+    size = 1 << addr_bits
+    half = 1 << (shift - 1)
+    z_cap = 3 << zf  # |zeta| <= 3 pi/2: where the exact reference is compared
+    out_shift = c_frac + data_bits
+    c_val = c_full / 2.0**c_frac
+    for j in range(ns.size):
+        n, k, a, aw, tab = ns[j], ks[j], a_float[j], a_word[j], tsel[j]
+        z_rel = _epicentre_end(n, zf, floor)
+        for i in range(size + 1):
+            num = (i << shift) - half
+            lo = 0 if num <= 0 else (num + aw - 1) // aw  # the least |z| with address i
+            if i < size:
+                hi = (((i + 1) << shift) - half + aw - 1) // aw - 1
+                word = rom12[(tab << addr_bits) | i]
+            else:  # overflow (a |zeta| >= pi/2): 0 from lo on, for every larger |z|
+                hi = max(lo, z_cap)
+                word = 0
+            if lo > hi:
+                continue
+            out = min(fixed.round_shift(c_full * word, out_shift), out_max)
+            for end in range(2):
+                z = lo if end == 0 else hi
+                approx = _references(z, zf, n, k, a)[0]
+                if i == size and end == 1:
+                    approx = 0.0  # far past pi/2 (a |zeta| >= pi/2) the approximation is 0
+                err = abs(out - c_val * approx)
+                if err > per_n[1, j]:
+                    per_n[1, j], per_z[1, j] = err, z
+                _extremes(f_min, f_max, f_n, f_z, 0, tab, i, approx, n, z)
+                if lo <= z_cap:  # the exact reference on the part with |zeta| <= 3pi/2
+                    z = min(z, z_cap)
+                    exact = _references(z, zf, n, k, a)[1]
+                    err = abs(out - c_val * exact)
+                    if err > per_n[2, j]:
+                        per_n[2, j], per_z[2, j] = err, z
+                    _extremes(f_min, f_max, f_n, f_z, 1, tab, i, exact, n, z)
+            if lo <= z_rel:  # (the overflow's word 0 too: a relative error of 1)
+                for end in range(2):
+                    z = lo if end == 0 else min(hi, z_rel)
+                    exact = _references(z, zf, n, k, a)[1]
+                    rel = abs(word / 2.0**data_bits / exact - 1.0)
+                    if rel > per_n[0, j]:
+                        per_n[0, j], per_z[0, j] = rel, z
+
+
+@njit(cache=True)
+def _every_c(
+    words: np.ndarray,
+    f_min: np.ndarray,
+    f_max: np.ndarray,
+    c_lim: int,
+    c_frac: int,
+    data_bits: int,
+    out_max: int,
+):
+    """max over (table, address) and C register c = 0..c_lim of |out(c, word) - C f|, f the
+    smallest or largest reference value at that address: (value, table, address, c, 0 | 1)."""
+    tables, count = words.shape
+    bound = np.full(tables * count, -1.0)
+    c_top = c_lim / 2.0**c_frac
+    for j in range(tables):
+        for i in range(count):
+            if f_max[j, i] >= f_min[j, i]:
+                u = words[j, i] / 2.0**data_bits
+                residue = max(0.5, c_top * u - out_max)  # rounding, or saturation
+                far = max(abs(u - f_min[j, i]), abs(u - f_max[j, i]))
+                bound[j * count + i] = residue + c_top * far
+    best, best_j, best_i, best_c, best_side = -1.0, 0, 0, 0, 0
+    for idx in np.argsort(-bound):
+        if bound[idx] <= best:
+            break
+        j, i = idx // count, idx % count
+        word, lo_f, hi_f = words[j, i], f_min[j, i], f_max[j, i]
+        for c in range(c_lim + 1):
+            out = min(fixed.round_shift(c * word, c_frac + data_bits), out_max)
+            cv = c / 2.0**c_frac
+            for side in range(2):
+                err = abs(out - cv * (lo_f if side == 0 else hi_f))
+                if err > best:
+                    best, best_j, best_i, best_c, best_side = err, j, i, c, side
+    return best, best_j, best_i, best_c, best_side
+
+
+def approx_lsb_bound(n: int, cfg: SpecularConfig = DEFAULT) -> float:
+    """An analytic bound on |output - C cos^k(a zeta)| at full scale (and any C below it):
+    1/2 (output rounding) + C (2**-D (table rounding, the 1.0 saturated) + S_k pi/2 e), e the
+    error of the scaled angle in units of pi/2: half an address step plus |zeta| times the
+    rounding of a in ROM 9, at the largest |zeta| where either side is not yet 0."""
+    k = decode_k(n, cfg)
+    a = alpha_value(n, k, cfg.alpha)
+    zeta_max = 1.0 / (a - 2.0 ** -(cfg.a_frac_bits + 1))
+    angle = 2.0 ** -(cfg.rom_addr_bits + 1) + zeta_max * 2.0 ** -(cfg.a_frac_bits + 1)
+    slope = cos_power_max_slope(k)
+    return 0.5 + cfg.out_max * (2.0**-cfg.rom_data_bits + slope * math.pi / 2 * angle)
+
+
+def angle_drift_steps(cfg: SpecularConfig = DEFAULT) -> float:
+    """The largest error of the accumulated angle over the longest line, in ROM-12 address
+    steps of the largest a: dz and z0 each rounded by at most half an LSB, so after l <= len_max
+    intervals |acc - (z0 + l dz)| <= (l + 1) 2**-(z_frac_bits+1); reached exactly when both sit
+    half an LSB off the grid the same way (``angle_drift_example``)."""
+    a_max = int(rom9_words(cfg).max()) / 2.0**cfg.a_frac_bits
+    return (cfg.len_max + 1) * 2.0 ** -(cfg.z_frac_bits + 1) * a_max * 2.0**cfg.rom_addr_bits
+
+
+def angle_drift_example(cfg: SpecularConfig = DEFAULT) -> float:
+    """The drift (address steps, largest a) of a line whose exact z0 and dz both lie exactly
+    half an LSB above a grid point: the register values the host's rounding (half away from
+    zero) gives, run through ``line_angles``, against the exact angles."""
+    lsb = 2.0**-cfg.z_frac_bits
+    z0, dz = 1000.5 * lsb, 777.5 * lsb  # exact values, both ties
+    fmt = cfg.z_format
+    acc = line_angles(fmt.quantise(dz), fmt.quantise(z0), cfg.len_max, cfg)
+    exact = (1000.5 + 777.5 * np.arange(cfg.len_max + 1)) * lsb
+    a_max = int(rom9_words(cfg).max()) / 2.0**cfg.a_frac_bits
+    return float(np.max(np.abs(acc * lsb - exact)) * a_max * 2**cfg.rom_addr_bits)
 
 
 # ==================================================================== report tables (README)
@@ -979,14 +1414,40 @@ def _worst(values: np.ndarray, lo: int, hi: int) -> tuple[float, int]:
     return float(part[i]), lo + i
 
 
+def _up(value: float, digits: int, scale: int = 1) -> str:
+    from model.accuracy import format_up  # the one rounding-up rule of every printed figure
+
+    return format_up(value, digits, scale)
+
+
 def float_errors(cfg: SpecularConfig = DEFAULT) -> np.ndarray:
     """brdf_max_rel_error of the configuration's mapping (its k and alpha) for n = 1..1000."""
     ks = decode_k(np.arange(1, N_MAX + 1), cfg)
     return np.array([brdf_max_rel_error(n, int(k), cfg.alpha) for n, k in enumerate(ks, 1)])
 
 
+SINGLE_TABLES = (
+    ("cos (prototype's k = 1)", 1, "taylor", 2),
+    ("cos^2 (prototype)", 2, "taylor", 3),
+    ("cos^2", 2, "inflection", 3),
+    ("cos^3", 3, "taylor", 4),
+    ("cos^3", 3, "inflection", 4),
+    ("cos^16", 16, "taylor", 17),
+    ("cos^16", 16, "inflection", 17),
+)
+"""Single-table approximations: (label, k, alpha, smallest n), worst over n = that..1000."""
+
+
+def single_table_worst(k: int, alpha: str, lo: int) -> tuple[float, int]:
+    """The worst ``brdf_max_rel_error`` of one cos^k table over n = lo..1000, and its n."""
+    errs = np.array([brdf_max_rel_error(n, k, alpha) for n in range(lo, N_MAX + 1)])
+    i = int(np.argmax(errs))
+    return float(errs[i]), lo + i
+
+
 def format_brdf_table() -> str:
-    """The float approximation's worst relative error in the epicentre, per n range (markdown)."""
+    """The float approximation's worst relative error in the epicentre, per n range (markdown;
+    exact maxima, rounded up)."""
     taylor = float_errors(DEFAULT)
     infl = float_errors(INFLECTION)
     lines = [
@@ -998,57 +1459,60 @@ def format_brdf_table() -> str:
         k = decode_k(lo)
         (t, tn), (f, fn) = _worst(taylor, lo, hi), _worst(infl, lo, hi)
         rng = str(lo) if lo == hi else f"{lo}..{hi}"
-        lines.append(f"| {rng} | {k} | {100 * t:.2f} % | {tn} | {100 * f:.2f} % | {fn} |")
+        lines.append(f"| {rng} | {k} | {_up(t, 3, 100)} % | {tn} | {_up(f, 3, 100)} % | {fn} |")
     lines += ["", "| single table | a | worst over n | at n |", "|---|---|---|---|"]
-    for label, k, alpha, lo in (
-        ("cos (prototype's k = 1)", 1, "taylor", 2),
-        ("cos^2 (prototype)", 2, "taylor", 3),
-        ("cos^2", 2, "inflection", 3),
-        ("cos^3", 3, "taylor", 4),
-        ("cos^3", 3, "inflection", 4),
-        ("cos^16", 16, "taylor", 17),
-        ("cos^16", 16, "inflection", 17),
-    ):
-        errs = np.array([brdf_max_rel_error(n, k, alpha) for n in range(lo, N_MAX + 1)])
-        i = int(np.argmax(errs))
-        lines.append(f"| {label} | {alpha} | {100 * errs[i]:.3f} % | {lo + i} |")
+    for label, k, alpha, lo in SINGLE_TABLES:
+        worst, at = single_table_worst(k, alpha, lo)
+        lines.append(f"| {label} | {alpha} | {_up(worst, 3, 100)} % | {at} |")
     return "\n".join(lines)
 
 
 def format_accuracy_table(cfg: SpecularConfig = DEFAULT, acc: Accuracy | None = None) -> str:
-    """The fixed-point unit against float cos^n, per n range (markdown)."""
+    """The fixed-point unit against float cos^n, per n range (markdown; worst cases over every
+    angle register value, rounded up)."""
     acc = fixed_point_accuracy(cfg) if acc is None else acc
+    full = cfg.out_max
     lines = [
         "| n | float approximation (epicentre) | ROM-12 path vs cos^n (epicentre) "
-        "| output vs C cos^n (LSB) | output vs C cos^k(a d) (LSB) |",
+        f"| output vs C cos^n (LSB, C = {full}) | output vs C cos^k(a d) (LSB, C = {full}) |",
         "|---|---|---|---|---|",
     ]
     for lo, hi in N_RANGES:
         rng = str(lo) if lo == hi else f"{lo}..{hi}"
         cells = [
-            f"{100 * _worst(acc.float_rel, lo, hi)[0]:.3f} %",
-            f"{100 * _worst(acc.rom_rel, lo, hi)[0]:.3f} %",
-            f"{_worst(acc.out_lsb_exact, lo, hi)[0]:.3f}",
-            f"{_worst(acc.out_lsb_approx, lo, hi)[0]:.3f}",
+            f"{_up(_worst(acc.float_rel, lo, hi)[0], 4, 100)} %",
+            f"{_up(_worst(acc.rom_rel, lo, hi)[0], 4, 100)} %",
+            _up(_worst(acc.out_lsb_exact, lo, hi)[0], 4),
+            _up(_worst(acc.out_lsb_approx, lo, hi)[0], 4),
         ]
         lines.append(f"| {rng} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
 
 def format_config_table(accs: dict[str, Accuracy]) -> str:
-    """Worst figures over n = 1..1000 for several configurations (markdown)."""
+    """Worst figures over n = 1..1000 for several configurations (markdown, rounded up)."""
     lines = [
         "| config | tables | ROM 12 | worst ROM-12 path vs cos^n (n >= 2) | at n "
-        "| worst output vs C cos^n (LSB) | worst output vs C cos^k(a d) (LSB) |",
-        "|---|---|---|---|---|---|---|",
+        "| output vs C cos^n (LSB): C = full scale | any C <= full scale | any C "
+        "| output vs C cos^k(a d) (LSB): C = full scale | any C <= full scale | any C |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for name, acc in accs.items():
         cfg = ROM_CONFIGS[name]
         rom_worst, rom_n = _worst(acc.rom_rel, 2, N_MAX)
+        cells = [
+            acc.out_lsb_exact.max(),
+            acc.exact_c_full.value,
+            acc.exact_any_c.value,
+            acc.out_lsb_approx.max(),
+            acc.approx_c_full.value,
+            acc.approx_any_c.value,
+        ]
         lines.append(
             f"| {name} | k = {', '.join(map(str, cfg.ks))} ({cfg.alpha}) "
             f"| {cfg.num_tables} x 2^{cfg.rom_addr_bits} x {cfg.rom_data_bits} bits "
-            f"| {100 * rom_worst:.3f} % | {rom_n} | {acc.out_lsb_exact.max():.3f} "
-            f"| {acc.out_lsb_approx.max():.3f} |"
+            f"| {_up(rom_worst, 4, 100)} % | {rom_n} | "
+            + " | ".join(_up(v, 4) for v in cells)
+            + " |"
         )
     return "\n".join(lines)

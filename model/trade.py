@@ -50,7 +50,11 @@ divider's figure that short scene spans cannot show); and cost:
 ``as_completed`` under a tqdm bar; a ``LocalCluster`` of worker processes by default, or an
 existing cluster (``--scheduler ADDRESS``).  Every result is written at once, atomically, to
 ``<out>/cache/<key>.json``; a rerun evaluates only the keys not in the cache, so an interrupted
-sweep resumes where it stopped.
+sweep resumes where it stopped.  A cache file that cannot be used (broken JSON, not an object, a
+missing field, a figure out of ``RESULT_RANGES``) is evaluated again, and the run says so.  One
+sweep at a time per cache: ``sweep_lock`` (``<out>/cache/sweep.lock``, ``fcntl.flock``) refuses a
+second one at once with the pid of the first (it does not wait).  ``main`` checks the output
+folders, the lock and the scheduler (``CONNECT_TIMEOUT``) before any work (``SetupError``).
 
 **Outputs** (``write_outputs``): ``results.csv`` (one row per point), ``results.md`` (per config,
 the mean/worst over the scenes, grouped by sweep, with the Pareto marks and what each knob buys),
@@ -59,6 +63,7 @@ the mean/worst over the scenes, grouped by sweep, with the Pareto marks and what
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import dataclasses
 import functools
@@ -77,7 +82,7 @@ import numpy as np
 
 from model import divider, gouraud, metrics, pipeline, raster, reference, report, scene, specular
 
-CACHE_VERSION = 2
+CACHE_VERSION = 4
 """Part of every key: bump it when a figure's definition changes, so old cache files are unused."""
 DEFAULT_SIZE = 128
 DEFAULT_OUT = Path("out/trade")
@@ -318,12 +323,24 @@ def _scene_reference(scene_name: str, size: int):
 
 
 @functools.lru_cache(maxsize=64)
-def epicentre_error(cfg: specular.SpecularConfig) -> tuple[float, int, float]:
-    """(worst relative error of the ROM-12 path vs cos^n over n = 1..1000, at n, worst output
-    error vs C cos^n in LSBs): ``specular.fixed_point_accuracy``, once per configuration."""
+def epicentre_error(cfg: specular.SpecularConfig) -> tuple[float, int, float, float]:
+    """(worst relative error of the ROM-12 path vs cos^n over n = 2..1000, at n, worst output
+    error vs C cos^n in LSBs over n = 1..1000, the unit's own worst error vs its float
+    approximation C cos^k(a zeta) in LSBs): ``specular.fixed_point_accuracy`` (exhaustive over
+    every angle register value, C at full scale), once per configuration.
+
+    n = 1 is left out of the relative figure: its epicentre runs down to cos = 0, where a
+    relative error measures how a tiny value is rounded (4.9 % at cos = 1/255 for every
+    configuration with a 16-bit table) and would hide every knob; the LSB figure covers it.
+    """
     acc = specular.fixed_point_accuracy(cfg)
-    i = int(np.argmax(acc.rom_rel))
-    return float(acc.rom_rel[i]), i + 1, float(acc.out_lsb_exact.max())
+    i = 1 + int(np.argmax(acc.rom_rel[1:]))
+    return (
+        float(acc.rom_rel[i]),
+        i + 1,
+        float(acc.out_lsb_exact.max()),
+        float(acc.out_lsb_approx.max()),
+    )
 
 
 def line_drift(cfg: pipeline.PipelineConfig) -> float:
@@ -375,9 +392,9 @@ def evaluate(point: TradePoint, repeats: int = 3) -> dict[str, object]:
     cycles = div_c + gou_c + spec_c
     frame_clocks = max(math.ceil(div_c / CHANNELS), math.ceil(gou_c / CHANNELS), spec_c)
     if cfg.specular_mode == "vertex":
-        epi, epi_n, epi_lsb = math.nan, 0, math.nan
+        epi, epi_n, epi_lsb, unit_lsb = math.nan, 0, math.nan, math.nan
     else:
-        epi, epi_n, epi_lsb = epicentre_error(cfg.specular)
+        epi, epi_n, epi_lsb, unit_lsb = epicentre_error(cfg.specular)
     return {
         **dataclasses.asdict(point),
         "key": point.key,
@@ -391,6 +408,7 @@ def evaluate(point: TradePoint, repeats: int = 3) -> dict[str, object]:
         "epicentre_rel_error": epi,
         "epicentre_worst_n": epi_n,
         "epicentre_out_lsb": epi_lsb,
+        "unit_error_lsb": unit_lsb,
         "line_drift_levels": line_drift(cfg),
         "angle_drift_steps": angle_drift(cfg) if cfg.specular_mode != "vertex" else math.nan,
         "pixels_shaded": pixels,
@@ -414,16 +432,95 @@ def cache_path(cache_dir: Path, point: TradePoint) -> Path:
     return Path(cache_dir) / f"{point.key}.json"
 
 
-def load_cached(cache_dir: Path, point: TradePoint) -> dict | None:
-    """The cached result of the point, or None (missing, unreadable or of another point)."""
+_COUNT = ("int", 0, math.inf, False)
+_SIZE = ("float", 0.0, math.inf, False)
+RESULT_RANGES: dict[str, tuple[str, float, float, bool]] = {
+    "nmse": _SIZE,
+    "psnr": ("float", 0.0, math.inf, False),  # +inf: equal to the reference
+    "max_abs_error": ("float", 0.0, 255.0, False),
+    "share_off_by_more_than_1": ("float", 0.0, 1.0, False),
+    "highlight_max_abs_error": ("float", 0.0, 255.0, True),
+    "epicentre_rel_error": ("float", 0.0, math.inf, True),
+    "epicentre_worst_n": ("int", 0, specular.N_MAX, False),
+    "epicentre_out_lsb": ("float", 0.0, math.inf, True),
+    "unit_error_lsb": ("float", 0.0, math.inf, True),
+    "line_drift_levels": _SIZE,
+    "angle_drift_steps": ("float", 0.0, math.inf, True),
+    **dict.fromkeys(
+        ("pixels_shaded", "divider_cycles", "gouraud_cycles", "specular_cycles"), _COUNT
+    ),
+    **dict.fromkeys(("specular_pixels", "cycles", "frame_clocks", "table_bits"), _COUNT),
+    **dict.fromkeys(("adders", "multipliers", "mult_bits"), _COUNT),
+    **dict.fromkeys(("px_per_clock", "px_per_clock_parallel", "shade_seconds"), _SIZE),
+    "sw_pixels_per_second": _SIZE,
+}
+"""Every figure of a result (``evaluate``): kind, legal range, NaN allowed (no specular unit, no
+highlight pixel).  A cached result is used only when every one is present and legal."""
+
+
+def check_result(point: TradePoint, result) -> str | None:
+    """Why ``result`` is not a valid result of ``point`` (a missing field, a figure out of
+    range, another point's fields), or None when it is."""
+    if not isinstance(result, dict):
+        return f"result is a {type(result).__name__}, not an object"
+    expect = {**dataclasses.asdict(point), "key": point.key, "config_key": point.config_key}
+    for name, value in expect.items():
+        if name not in result:
+            return f"field {name!r} is missing"
+        if result[name] != value:
+            return f"{name} = {result[name]!r} is not this point's {value!r}"
+    if not isinstance(result.get("label"), str):
+        return "field 'label' is missing or not a string"
+    for name, (kind, lo, hi, nan_ok) in RESULT_RANGES.items():
+        if name not in result:
+            return f"field {name!r} is missing"
+        x = result[name]
+        number = int | float if kind == "float" else int
+        legal = "an integer" if kind == "int" else "a finite number"
+        legal += f" >= {lo:g}" if math.isinf(hi) else f" in {lo:g}..{hi:g}"
+        if name == "psnr":
+            legal += " (inf: equal images)"
+        if nan_ok:
+            legal += " or NaN"
+        if isinstance(x, bool) or not isinstance(x, number):
+            return f"{name} = {x!r} is not legal: legal is {legal}"
+        if math.isnan(x) and nan_ok:
+            continue
+        if math.isnan(x) or not lo <= x <= hi or (math.isinf(x) and name != "psnr"):
+            return f"{name} = {x!r} is out of range: legal is {legal}"
+    return None
+
+
+def read_cached(cache_dir: Path, point: TradePoint) -> tuple[dict | None, str | None]:
+    """(the cached result of the point, None), (None, None) when there is no cache file, or
+    (None, why) when the file is there but cannot be used (broken, another point's, invalid)."""
     path = cache_path(cache_dir, point)
     try:
-        data = json.loads(path.read_text())
-    except (OSError, ValueError):
-        return None
-    if data.get("point") != dataclasses.asdict(point) or data.get("version") != CACHE_VERSION:
-        return None
-    return data["result"]
+        text = path.read_text()
+    except FileNotFoundError:
+        return None, None
+    except (OSError, UnicodeDecodeError) as exc:
+        return None, f"unreadable: {exc}"
+    try:
+        data = json.loads(text)
+    except ValueError as exc:
+        return None, f"not valid JSON: {exc}"
+    if not isinstance(data, dict):
+        return None, f"holds a JSON {type(data).__name__}, not an object"
+    if data.get("version") != CACHE_VERSION:
+        return None, f"version = {data.get('version')!r}, expected {CACHE_VERSION}"
+    if data.get("point") != dataclasses.asdict(point):
+        return None, "holds the result of another point"
+    why = check_result(point, data["result"]) if "result" in data else "field 'result' is missing"
+    if why is not None:
+        return None, why
+    return data["result"], None
+
+
+def load_cached(cache_dir: Path, point: TradePoint) -> dict | None:
+    """The cached result of the point, or None (missing, unreadable, of another point or
+    invalid: ``read_cached`` says why)."""
+    return read_cached(cache_dir, point)[0]
 
 
 def store(cache_dir: Path, point: TradePoint, result: dict) -> Path:
@@ -450,15 +547,88 @@ class SweepOutcome:
     evaluated: int  # points evaluated (submitted) in this run
     failed: dict[str, str] = field(default_factory=dict)  # key -> error
     seconds: float = 0.0
+    recomputed: dict[str, str] = field(default_factory=dict)  # key -> why its cache was unused
+
+
+CONNECT_TIMEOUT = 5.0
+"""Seconds to wait for ``--scheduler`` before giving up (Dask's own default is 30)."""
+LOCK_NAME = "sweep.lock"
+"""The lock file in the cache folder: one sweep at a time per cache (``sweep_lock``)."""
+SetupError = report.SetupError
+
+
+def check_workers(workers, allow_zero: bool = False) -> int | None:
+    """``workers`` as an int (None: the default), or ``ValueError`` naming it (a negative count
+    made the LocalCluster hang)."""
+    lo = 0 if allow_zero else 1
+    if workers is None:
+        return None
+    if isinstance(workers, bool) or not isinstance(workers, int | np.integer) or workers < lo:
+        extra = " (0: evaluate in this process)" if allow_zero else ""
+        raise ValueError(
+            f"workers = {workers!r} is out of range: legal is None (local default) or an "
+            f"integer >= {lo}{extra}"
+        )
+    return int(workers)
+
+
+def connect(scheduler: str, timeout: float = CONNECT_TIMEOUT):
+    """A client of the Dask scheduler at ``scheduler``, or ``SetupError`` naming the address
+    after ``timeout`` seconds (unreachable) or at once (not an address)."""
+    from dask.distributed import Client
+
+    try:
+        return Client(scheduler, timeout=timeout)
+    except (OSError, ValueError, TypeError) as exc:
+        why = f"no answer within {timeout:g} s" if isinstance(exc, OSError) else str(exc)
+        raise SetupError(
+            f"argument --scheduler: cannot connect to {scheduler!r} ({why}): must be the "
+            "address of a running Dask scheduler, e.g. tcp://127.0.0.1:8786",
+            status=1,
+        ) from None
+
+
+@contextlib.contextmanager
+def sweep_lock(cache_dir: Path):
+    """Hold ``<cache_dir>/sweep.lock`` (``fcntl.flock``, released when the process ends, even
+    killed) for one sweep; a second sweep on the same cache does not wait: it raises
+    ``SetupError`` naming the lock file and the pid that holds it."""
+    import fcntl
+
+    path = Path(cache_dir) / LOCK_NAME
+    path.parent.mkdir(parents=True, exist_ok=True)
+    f = open(path, "a+")  # noqa: SIM115 (held open for the whole with-block)
+    try:
+        fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        f.seek(0)
+        other = f.read().strip() or "unknown"
+        f.close()
+        raise SetupError(
+            f"another trade sweep (pid {other}) holds the lock {path}: one sweep at a time per "
+            "--out; wait for it to finish or use another --out",
+            status=1,
+        ) from None
+    try:
+        f.seek(0)
+        f.truncate()
+        f.write(f"{os.getpid()}\n")
+        f.flush()
+        yield path
+    finally:
+        f.truncate(0)
+        fcntl.flock(f, fcntl.LOCK_UN)
+        f.close()
 
 
 def make_client(workers: int | None = None, scheduler: str | None = None):
-    """A Dask client: to the scheduler at ``scheduler``, or a LocalCluster of processes."""
+    """A Dask client: to the scheduler at ``scheduler`` (``connect``), or a LocalCluster of
+    ``workers`` processes (>= 1; default min(2, CPUs))."""
     from dask.distributed import Client, LocalCluster
 
     if scheduler:
-        return Client(scheduler)
-    n = workers or min(2, os.cpu_count() or 1)
+        return connect(scheduler)
+    n = check_workers(workers) or min(2, os.cpu_count() or 1)
     cluster = LocalCluster(
         n_workers=n,
         threads_per_worker=1,
@@ -479,24 +649,47 @@ def run_sweep(
     repeats: int = 3,
     progress: bool = True,
     evaluate_fn: Callable[..., dict] = evaluate,
+    lock: bool = True,
 ) -> SweepOutcome:
     """Evaluate every point not in ``cache_dir`` on Dask and cache each result as it comes.
 
     ``client``: an existing ``dask.distributed.Client`` (kept open); otherwise one is made from
     ``scheduler`` / ``workers`` and closed at the end.  ``workers=0`` without a client or
     scheduler evaluates in this process, in order (debugging, ``NUMBA_DISABLE_JIT=1``).
+    A cache file that cannot be used (broken JSON, not an object, a missing field, a figure out
+    of range: ``read_cached``) is evaluated again, and said so (one line each with
+    ``progress``; ``SweepOutcome.recomputed``).  ``lock``: hold ``sweep_lock(cache_dir)`` for
+    the sweep (a second sweep on the same cache raises ``SetupError`` at once).
     """
+    check_workers(workers, allow_zero=True)
+    cache_dir = Path(cache_dir)
+    cache_dir.mkdir(parents=True, exist_ok=True)
+    with sweep_lock(cache_dir) if lock else contextlib.nullcontext():
+        return _run_sweep(
+            points, cache_dir, client, workers, scheduler, repeats, progress, evaluate_fn
+        )
+
+
+def _run_sweep(
+    points, cache_dir, client, workers, scheduler, repeats, progress, evaluate_fn
+) -> SweepOutcome:
     from tqdm import tqdm
 
     began = time.perf_counter()
     points = list(dict.fromkeys(points))  # unique, in order
-    cache_dir = Path(cache_dir)
-    cache_dir.mkdir(parents=True, exist_ok=True)
     done: dict[str, dict] = {}
+    recomputed: dict[str, str] = {}
     for p in points:
-        cached = load_cached(cache_dir, p)
+        cached, why = read_cached(cache_dir, p)
         if cached is not None:
             done[p.key] = cached
+        elif why is not None:
+            recomputed[p.key] = why
+            if progress:
+                print(
+                    f"trade: cache entry {cache_path(cache_dir, p)} is not used ({why}): "
+                    "evaluating the point again"
+                )
     todo = [p for p in points if p.key not in done]
     n_cached = len(done)
     if progress:
@@ -545,6 +738,7 @@ def run_sweep(
         evaluated=len(todo),
         failed=failed,
         seconds=time.perf_counter() - began,
+        recomputed=recomputed,
     )
 
 
@@ -602,6 +796,7 @@ def aggregate(results: list[dict]) -> list[dict]:
             highlight_max_abs_error=float(np.nanmax([r["highlight_max_abs_error"] for r in rs])),
             epicentre_rel_error=first["epicentre_rel_error"],
             epicentre_worst_n=first["epicentre_worst_n"],
+            unit_error_lsb=first["unit_error_lsb"],
             line_drift_levels=first["line_drift_levels"],
             angle_drift_steps=first["angle_drift_steps"],
             cycles=tot["cycles"] / len(rs),
@@ -635,7 +830,12 @@ def default_row(rows: list[dict]) -> int | None:
 
 def worst_figures(r: dict) -> list[float]:
     """The worst-case unit figures (NaN = no specular unit: counted as infinitely bad)."""
-    return [r["epicentre_rel_error"], r["line_drift_levels"], r["angle_drift_steps"]]
+    return [
+        r["epicentre_rel_error"],
+        r["unit_error_lsb"],
+        r["line_drift_levels"],
+        r["angle_drift_steps"],
+    ]
 
 
 ALL_COSTS = ("cycles", "table_bits", "adders", "mult_bits")
@@ -644,7 +844,7 @@ ALL_COSTS = ("cycles", "table_bits", "adders", "mult_bits")
 def front_objectives(rows: list[dict]) -> dict[str, np.ndarray]:
     """The fronts the study reports, all figures minimised: NMSE against cycles, NMSE against
     table bits, and "all": NMSE, the worst-case unit figures and every cost at once."""
-    worst = np.array([worst_figures(r) for r in rows], dtype=np.float64).reshape(len(rows), 3)
+    worst = np.array([worst_figures(r) for r in rows], dtype=np.float64).reshape(len(rows), 4)
     worst = np.nan_to_num(worst, nan=np.inf)
     nmse = np.array([[r["nmse"]] for r in rows], dtype=np.float64).reshape(len(rows), 1)
     costs = np.array([[r[c] for c in ALL_COSTS] for r in rows], dtype=np.float64)
@@ -681,6 +881,7 @@ CSV_FIELDS = (
     "epicentre_rel_error",
     "epicentre_worst_n",
     "epicentre_out_lsb",
+    "unit_error_lsb",
     "line_drift_levels",
     "angle_drift_steps",
     "pixels_shaded",
@@ -720,10 +921,11 @@ def _pct(x: float) -> str:
 
 
 TABLE_HEAD = (
-    "| config | NMSE (mean) | PSNR dB (min) | max err | epicentre err (n) | line drift "
+    "| config | NMSE (mean) | PSNR dB (min) | max err | epicentre err (n) | unit err (LSB) "
+    "| line drift "
     "| angle drift | cycles/frame | frame clocks | px/clk | px/clk par. | table bits | adders "
     "| mult (bits) | Mpx/s | front |\n"
-    "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 )
 
 
@@ -737,6 +939,7 @@ def table_row(r: dict) -> str:
     name = "**default**" if r["label"] == "default" else r["label"]
     return (
         f"| {name} | {r['nmse']:.6f} | {r['psnr']:.1f} | {r['max_abs_error']:.0f} | {epi} "
+        f"| {_num(r['unit_error_lsb'])} "
         f"| {r['line_drift_levels']:.3f} | {_num(r['angle_drift_steps'])} "
         f"| {r['cycles']:,.0f} | {r['frame_clocks']:,.0f} "
         f"| {r['px_per_clock']:.3f} | {r['px_per_clock_parallel']:.3f} | {r['table_bits']:,} "
@@ -916,10 +1119,31 @@ def main(
     scheduler: str | None = None,
     figure_dir: Path | None = None,
     repeats: int = 3,
+    connect_timeout: float = CONNECT_TIMEOUT,
 ) -> int:
-    """``python -m model trade``: sweep, cache, write the outputs, print the summary."""
-    began = time.perf_counter()
+    """``python -m model trade``: sweep, cache, write the outputs, print the summary.
+
+    Before any work (``SetupError``, named after the command-line arguments): ``out_dir`` and
+    ``figure_dir`` must be folders this user can create and write in, the sweep lock of
+    ``out_dir/cache`` must be free (a second sweep on the same ``--out`` is refused, it does not
+    wait) and ``scheduler`` must answer within ``connect_timeout`` seconds."""
+    workers = check_workers(workers, allow_zero=True)
     points = grid_points(grid, scenes, size)
+    out_dir = report.check_output_dir("--out", Path(out_dir))
+    cache_dir = report.check_output_dir("--out", out_dir / "cache")
+    if figure_dir is not None:
+        report.check_output_dir("--figure", Path(figure_dir))
+    with sweep_lock(cache_dir):
+        client = connect(scheduler, connect_timeout) if scheduler else None
+        try:
+            return _main(points, scenes, size, grid, out_dir, workers, client, figure_dir, repeats)
+        finally:
+            if client is not None:
+                client.close()
+
+
+def _main(points, scenes, size, grid, out_dir, workers, client, figure_dir, repeats) -> int:
+    began = time.perf_counter()
     n_cfg = len({p.config_key for p in points})
     print(
         f"== trade: grid {grid!r}, {n_cfg} configurations x {len(scenes)} scenes "
@@ -927,10 +1151,11 @@ def main(
     )
     outcome = run_sweep(
         points,
-        Path(out_dir) / "cache",
+        out_dir / "cache",
+        client=client,
         workers=workers,
-        scheduler=scheduler,
         repeats=repeats,
+        lock=False,  # main holds it
     )
     rows, written = write_outputs(outcome.results, out_dir, figure_dir)
     print("\n== What each knob buys ==")
@@ -939,8 +1164,11 @@ def main(
     for name, labels in default_position(rows).items():
         print(f"NMSE vs {name}: " + ("on or near the front" if not labels else "; ".join(labels)))
     print(f"\nwrote {', '.join(str(p) for p in written)}")
+    recomputed = (
+        f" ({len(outcome.recomputed)} unusable cache entries)" if outcome.recomputed else ""
+    )
     print(
-        f"trade: {outcome.evaluated} evaluated, {outcome.cached} from the cache, "
+        f"trade: {outcome.evaluated} evaluated{recomputed}, {outcome.cached} from the cache, "
         f"{len(outcome.failed)} failed; took {time.perf_counter() - began:.1f} s"
     )
     for key, err in outcome.failed.items():

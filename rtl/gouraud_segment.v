@@ -24,6 +24,10 @@
  *
  * Protocol (DESIGN.md): operands are sampled with their write strobes while busy = 0;
  * a start accepted in the same cycle as a write runs on the values held before it.
+ *
+ * Checks: a parameter set model.gouraud.GouraudConfig refuses is refused at elaboration (an
+ * instance of a module that does not exist, named after the rule, e.g.
+ * gouraud_segment_PARAMETER_ERROR_P_must_be_2_4_8_or_16).
  */
 
 `resetall
@@ -68,44 +72,41 @@ localparam INC_WIDTH = DI_WIDTH + LOG2P;
 localparam ACC_WIDTH = LEN_WIDTH + I_WIDTH + 1 + ((I_WIDTH >= LEN_WIDTH) ? 1 : 0);
 localparam EXT_WIDTH = ACC_WIDTH - INC_WIDTH;
 
-initial begin
-    if (P != 2 && P != 4 && P != 8 && P != 16) begin
-        $error("Error: P must be 2, 4, 8 or 16 (instance %m)");
-        $finish;
+// ---------------------------------------------------------------- parameter check
+// Exactly the sets model.gouraud.GouraudConfig refuses (Verilog-2005 has no elaboration-time
+// $error: a failing rule instantiates a module that does not exist, named after the rule, and
+// every tool stops with an error naming it).
+generate
+    if (I_INT < 1 || I_INT > 16) begin : g_check_i_int
+        gouraud_segment_PARAMETER_ERROR_I_INT_must_be_1_to_16 u_error ();
     end
-    if (I_INT < 1 || I_INT > 16 || I_FRAC < 1 || I_FRAC > 24) begin
-        $error("Error: I_INT must be 1..16 and I_FRAC 1..24 (instance %m)");
-        $finish;
+    if (I_FRAC < 1 || I_FRAC > 24) begin : g_check_i_frac
+        gouraud_segment_PARAMETER_ERROR_I_FRAC_must_be_1_to_24 u_error ();
     end
-    if (LEN_WIDTH <= LOG2P || LEN_WIDTH > 16) begin
-        $error("Error: LEN_WIDTH must be log2(P)+1..16 (instance %m)");
-        $finish;
+    if (P != 2 && P != 4 && P != 8 && P != 16) begin : g_check_p
+        gouraud_segment_PARAMETER_ERROR_P_must_be_2_4_8_or_16 u_error ();
     end
-end
+    if (LEN_WIDTH <= LOG2P || LEN_WIDTH > 16) begin : g_check_len_width
+        // A line must be able to span more than one segment
+        gouraud_segment_PARAMETER_ERROR_LEN_WIDTH_must_be_log2_P_plus_1_to_16 u_error ();
+    end
+endgenerate
 
 // ---------------------------------------------------------------- the network, derived from P
-
-function integer is_pow2(input integer v);
-    begin
-        if (v > 0 && (v & (v - 1)) == 0) begin
-            is_pow2 = 1;
-        end else begin
-            is_pow2 = 0;
-        end
-    end
-endfunction
 
 // Adder level of the multiple v: 0 = a wired shift, 1 = one adder of two shifts, 2 = one
 // adder of two level-0/1 multiples (enough for every v <= 16)
 function integer mult_level(input integer v, input integer p);
     integer y;
     begin
-        if (is_pow2(v) != 0 && v <= p) begin
+        // (x & (x - 1)) == 0: x (> 0 here) is a power of two
+        if (v > 0 && (v & (v - 1)) == 0 && v <= p) begin
             mult_level = 0;
         end else begin
             mult_level = 2;
             for (y = 1; y <= p; y = y * 2) begin
-                if ((v - y >= y && is_pow2(v - y) != 0) || (v + y <= p && is_pow2(v + y) != 0)) begin
+                if ((v - y >= y && ((v - y) & (v - y - 1)) == 0)
+                        || (v + y <= p && ((v + y) & (v + y - 1)) == 0)) begin
                     mult_level = 1;
                 end
             end
@@ -116,12 +117,15 @@ endfunction
 // Smallest y with i = (i-y) + y, both of a lower level (0 if there is none)
 function integer add_y(input integer i, input integer p);
     integer y;
+    integer level;
     begin
         add_y = 0;
+        level = mult_level(i, p);
         for (y = p; y >= 1; y = y - 1) begin
-            if (i - y >= y && mult_level(y, p) < mult_level(i, p)
-                    && mult_level(i - y, p) < mult_level(i, p)) begin
-                add_y = y;
+            if (i - y >= y) begin
+                if (mult_level(y, p) < level && mult_level(i - y, p) < level) begin
+                    add_y = y;
+                end
             end
         end
     end
@@ -130,12 +134,15 @@ endfunction
 // Smallest y with i = (i+y) - y, both of a lower level (0 if there is none)
 function integer sub_y(input integer i, input integer p);
     integer y;
+    integer level;
     begin
         sub_y = 0;
+        level = mult_level(i, p);
         for (y = p; y >= 1; y = y - 1) begin
-            if (i + y <= p && mult_level(y, p) < mult_level(i, p)
-                    && mult_level(i + y, p) < mult_level(i, p)) begin
-                sub_y = y;
+            if (i + y <= p) begin
+                if (mult_level(y, p) < level && mult_level(i + y, p) < level) begin
+                    sub_y = y;
+                end
             end
         end
     end
@@ -186,7 +193,8 @@ assign mult[INC_WIDTH-1:0] = {INC_WIDTH{1'b0}};
 
 genvar i;
 generate
-    for (i = 1; i <= P; i = i + 1) begin : g_mult
+    // (an illegal P is refused above: its network is not built, which would only slow the tools)
+    for (i = 1; i <= P && P <= 16; i = i + 1) begin : g_mult
         localparam integer LEVEL = mult_level(i, P);
         localparam integer ADD_Y = add_y(i, P);
         localparam integer SUB_Y = sub_y(i, P);

@@ -6,6 +6,7 @@ import itertools
 import os
 
 import cocotb
+from cocotb.triggers import ReadOnly, RisingEdge
 
 from model import divider
 from model.divider import DividerConfig
@@ -188,3 +189,19 @@ async def test_write_in_start_cycle(dut):
     assert stats.writes_at_start == 2, stats
     got = [job[0] for job in tb.monitor.result_log]
     assert got == [{"q": 0, "div_zero": 1}, {"q": 100 << (n - 2), "div_zero": 0}], got
+
+
+@cocotb.test()
+async def test_rom_read_on_the_k_write(dut):
+    """The reciprocal ROM is read when k is written (not at start): right after an idle-cycle k
+    write the working register holds ROM word k of the model's image."""
+    tb = DividerTB(dut)
+    await tb.reset()
+    words = divider.rom_words(tb.cfg)
+    rng = bench_rng("rom_read")
+    for k in sorted({0, 1, 2, 3, tb.cfg.k_max, *(rng.randint(0, tb.cfg.k_max) for _ in range(20))}):
+        await tb.load(k=k)
+        await ReadOnly()
+        assert dut.recip_reg.value.to_unsigned() == int(words[k]), (k, dut.recip_reg.value)
+        await RisingEdge(dut.clk)
+    tb.monitor.finish("rom_read_on_the_k_write")

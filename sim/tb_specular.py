@@ -7,6 +7,7 @@ import random
 
 import cocotb
 import numpy as np
+from cocotb.triggers import ReadOnly, RisingEdge
 
 from model import specular
 from model.specular import SpecularConfig
@@ -268,3 +269,23 @@ async def test_random_strobes(dut):
     stats = await random_strobes(tb, cycles, bench_seed())
     assert stats.writes_at_start > 0 and stats.writes_ignored > 0 and stats.starts_ignored > 0
     tb.monitor.finish("random_strobes")
+
+
+@cocotb.test()
+async def test_rom9_and_decoder_read_on_the_n_write(dut):
+    """ROM 9 and the decoder are read when n is written: right after an idle-cycle n write the
+    working registers hold a = ROM 9 word n, the decoded table and n_err of the model."""
+    tb = SpecularTB(dut)
+    await tb.reset()
+    words = specular.rom9_words(tb.cfg)
+    edges = {0, 1, 2, 3, 6, 7, 1000, 1001, 1023, *tb.cfg.n_hi}
+    for n in sorted(edges | set(range(1, 1024, 37))):
+        await tb.load(n=n)
+        await ReadOnly()
+        assert dut.a_reg.value.to_unsigned() == int(words[n]), (n, dut.a_reg.value)
+        assert int(dut.nerr_reg.value) == int(not specular.n_valid(n)), n
+        if specular.n_valid(n):
+            k = specular.decode_k(n, tb.cfg)
+            assert tb.cfg.ks[dut.tsel_reg.value.to_unsigned()] == k, (n, k)
+        await RisingEdge(dut.clk)
+    tb.monitor.finish("rom9_and_decoder_read_on_the_n_write")

@@ -43,3 +43,21 @@ def test_bench_finds_the_div_zero_leak(request) -> None:
     assert errors.get("random_strobes", 0) > 0 and errors.get("write_in_start_cycle", 0) > 0, (
         records
     )
+
+
+def test_stuck_busy_fails_instead_of_hanging(request) -> None:
+    """A divider whose busy never falls fails the bench's extremes test (the watchdog of
+    ``wait_idle``), it does not hang it."""
+    cfg = divider.DEFAULT
+    params = hdl_parameters(cfg, ROM_FILE=divider.rom_path(cfg))
+    records = run_bench(
+        "divider_shift",
+        "sim.tb_divider",
+        "divider_mutant_busy_stuck",
+        params,
+        cfg,
+        testcase="test_extremes",
+        rtl=MUTANTS / "divider_shift_busy_stuck.v",
+        expect_failure=True,
+    )
+    assert records == [], records  # the test failed before it could finish its summary

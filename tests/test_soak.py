@@ -34,6 +34,7 @@ CONFIGS = {
     "gouraud_p16": (gouraud.GouraudConfig(p=16), SHORT_SOAK),
     "specular_default": (specular.DEFAULT, SOAK_CYCLES),
     "specular_narrow": (specular.ROM_CONFIGS["narrow"], SHORT_SOAK),
+    "specular_inflection": (specular.ROM_CONFIGS["inflection"], SHORT_SOAK),
 }
 
 

@@ -164,8 +164,18 @@ def test_sweep_on_dask_caches_and_resumes(tmp_path):
 def test_cache_ignores_other_or_broken_files(tmp_path):
     p = trade.TradePoint(scene="sphere", size=TINY)
     q = p.with_knobs(p=4)
-    trade.store(tmp_path, p, {"x": 1})
-    assert trade.load_cached(tmp_path, p) == {"x": 1}
+    result = {
+        **dataclasses.asdict(p),
+        "key": p.key,
+        "config_key": p.config_key,
+        "label": p.label,
+        **{f: 1 if kind == "int" else 1.0 for f, (kind, *_) in trade.RESULT_RANGES.items()},
+    }
+    trade.store(tmp_path, p, result)
+    assert trade.load_cached(tmp_path, p) == result
+    trade.store(tmp_path, p, {"x": 1})  # not a result (tests/test_bad_input.py: every case)
+    assert trade.read_cached(tmp_path, p) == (None, "field 'scene' is missing")
+    trade.store(tmp_path, p, result)
     assert not list(tmp_path.glob("*.tmp"))
     # a file under q's name holding p's result (a collision) or half written: not used
     trade.cache_path(tmp_path, p).rename(trade.cache_path(tmp_path, q))
@@ -192,10 +202,12 @@ def test_eps_dominance_defines_near():
 
 
 def test_default_is_on_the_all_figures_front_but_for_the_free_changes(tmp_path):
-    """What the README states: over every figure at once (accuracy, worst cases and costs), the
-    default is eps-dominated only by changes that cost nothing (inflection a, adaptive skipping,
-    a smaller P on small scenes); its widths, N and k-set are on the front.  On NMSE against
-    cycles alone, smaller N dominates it (the scenes' short spans cannot show the drift)."""
+    """What the README states: over every figure at once (accuracy, exhaustive worst cases and
+    costs), the default is eps-dominated only by changes that cost nothing (inflection a,
+    adaptive skipping, a smaller P on small scenes) and by 12-bit ROM-12 words (within 5 % on
+    every figure, the unit's own error included); its address and angle widths, N and k-set are
+    on the front.  On NMSE against cycles alone, smaller N dominates it (the scenes' short spans
+    cannot show the drift)."""
     configs = [
         {},
         {"recip_bits": 14},
@@ -217,7 +229,7 @@ def test_default_is_on_the_all_figures_front_but_for_the_free_changes(tmp_path):
         "pareto_bits.png",
     ]
     pos = trade.default_position(rows)
-    free = {"alpha", "specular_mode", "highlight_levels", "p"}
+    free = {"alpha", "specular_mode", "highlight_levels", "p", "rom_data_bits"}
     by_label = {r["label"]: r for r in rows}
     for label in pos["all figures"]:
         assert (
@@ -225,6 +237,7 @@ def test_default_is_on_the_all_figures_front_but_for_the_free_changes(tmp_path):
             <= free
         )
     assert "alpha=inflection" in pos["all figures"]
+    assert "rom_data_bits=12" in pos["all figures"]
     assert by_label["recip_bits=14"]["cycles"] <= by_label["default"]["cycles"]
     vertex = by_label["specular_mode=vertex"]
     assert vertex["pareto_cycles"] and vertex["pareto_bits"]  # the cheapest: on both fronts

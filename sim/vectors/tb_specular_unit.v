@@ -22,6 +22,11 @@ module tb_specular_unit #(
     parameter N_HI2 = 6,
     parameter N_HI3 = 1000,
     parameter MAG_INT_BITS = 1,
+    parameter K0 = 1,
+    parameter K1 = 2,
+    parameter K2 = 4,
+    parameter K3 = 16,
+    parameter ALPHA = "taylor",
     parameter A_ROM_FILE = "rom/specular_a_taylor_n1k1_n2k2_n3-6k4_n7-1000k16_q3.14.hex",
     parameter COS_ROM_FILE = "rom/specular_cos_k1-2-4-16_a12_d16.hex",
     parameter CYCLES = 1,
@@ -69,6 +74,11 @@ specular_unit #(
     .N_HI2(N_HI2),
     .N_HI3(N_HI3),
     .MAG_INT_BITS(MAG_INT_BITS),
+    .K0(K0),
+    .K1(K1),
+    .K2(K2),
+    .K3(K3),
+    .ALPHA(ALPHA),
     .A_ROM_FILE(A_ROM_FILE),
     .COS_ROM_FILE(COS_ROM_FILE)
 ) dut (

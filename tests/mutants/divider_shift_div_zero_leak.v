@@ -1,8 +1,9 @@
-// SAVED MUTANT, not part of the product: rtl/divider_shift.v as released before issue 11.
-// Its div_zero is taken from the k register when the result is written, so a k write in the
-// start cycle (accepted for the next division) leaks into the running division's flag.
-// tests/test_vectors.py and tests/test_sim_divider.py run the benches on it and require them to
-// FAIL, naming div_zero: the proof that the benches can find this class of defect.
+// SAVED MUTANT, not part of the product: rtl/divider_shift.v with the defect of the release
+// before issue 11 put back (one line, marked MUTANT).  Its div_zero is taken from the k register
+// when the result is written, so a k write in the start cycle (accepted for the next division)
+// leaks into the running division's flag.  tests/test_soak.py and tests/test_sim_divider.py run
+// the benches on it and require them to FAIL, naming div_zero: the proof that the benches can
+// find this class of defect.
 /*
  * Shift-add divider (Romanyuk & Obidnyk): q = a * round(2^N / k), N = RECIP_BITS.
  *
@@ -18,6 +19,12 @@
  * Protocol (DESIGN.md): operands are sampled with their write strobes while busy = 0;
  * a start accepted in the same cycle as a write runs on the values held before it.
  * valid is high for one cycle, in the first cycle busy is 0 again.
+ *
+ * Checks: a parameter set model.divider.DividerConfig refuses is refused at elaboration (an
+ * instance of a module that does not exist, named after the rule, e.g.
+ * divider_shift_PARAMETER_ERROR_A_WIDTH_must_be_2_to_40).  In simulation the ROM image is
+ * checked at time 0 (see "ROM image check"): a missing, short, malformed or wrong-configuration
+ * file ends the run with a message and a non-zero exit status.
  */
 
 `resetall
@@ -51,24 +58,144 @@ module divider_shift #(
 
 localparam Q_WIDTH = A_WIDTH + RECIP_BITS;
 localparam R_WIDTH = RECIP_BITS + 1;
+localparam ROM_DEPTH = 2 ** K_WIDTH;
 
-initial begin
-    if (A_WIDTH < 2) begin
-        $error("Error: A_WIDTH must be at least 2 (instance %m)");
-        $finish;
+// ---------------------------------------------------------------- parameter check
+// Exactly the sets model.divider.DividerConfig refuses (Verilog-2005 has no elaboration-time
+// $error: a failing rule instantiates a module that does not exist, named after the rule, and
+// every tool stops with an error naming it).  62 is the model's fixed.MAX_KERNEL_WIDTH.
+generate
+    if (A_WIDTH < 2 || A_WIDTH > 40) begin : g_check_a_width
+        divider_shift_PARAMETER_ERROR_A_WIDTH_must_be_2_to_40 u_error ();
     end
-    if (K_WIDTH < 1 || K_WIDTH > RECIP_BITS + 1) begin
-        $error("Error: K_WIDTH must be 1..RECIP_BITS+1, else round(2^N/k) is 0 (instance %m)");
-        $finish;
+    if (K_WIDTH < 1 || K_WIDTH > 16) begin : g_check_k_width
+        divider_shift_PARAMETER_ERROR_K_WIDTH_must_be_1_to_16 u_error ();
     end
-end
+    if (RECIP_BITS < 1 || RECIP_BITS > 40) begin : g_check_recip_bits
+        divider_shift_PARAMETER_ERROR_RECIP_BITS_must_be_1_to_40 u_error ();
+    end
+    if (A_WIDTH + RECIP_BITS > 62) begin : g_check_q_width
+        divider_shift_PARAMETER_ERROR_A_WIDTH_plus_RECIP_BITS_above_62 u_error ();
+    end
+    if (K_WIDTH > RECIP_BITS + 1) begin : g_check_k_recip
+        // round(2^N / k) would be 0 for every k > 2^(N+1)
+        divider_shift_PARAMETER_ERROR_K_WIDTH_above_RECIP_BITS_plus_1 u_error ();
+    end
+endgenerate
 
 // Reciprocal ROM, one R_WIDTH-bit word per k
-reg [R_WIDTH-1:0] recip_rom [0:(2**K_WIDTH)-1];
+reg [R_WIDTH-1:0] recip_rom [0:ROM_DEPTH-1];
 
+`ifdef SYNTHESIS
+// Synthesis loads the data words only: the check words after them fall past the end of the
+// array (Yosys drops them without a message), so the ROM stays 2^K_WIDTH words of block RAM.
 initial begin
     $readmemh(ROM_FILE, recip_rom);
 end
+`else
+// ---------------------------------------------------------------- ROM image check (simulation)
+// The image (model.rom.format_image) holds the ROM_DEPTH data words, then 7 check fields, each
+// a 32-bit value in ROM_CHUNKS words of R_WIDTH bits, low bits first: magic "DIVR", depth,
+// width, K_WIDTH, RECIP_BITS, the checksum of the data words (FNV-1a over 32-bit pieces, low
+// piece first) and the end mark "END!".  At time 0 the whole image is read; every word must be
+// defined (Icarus leaves X for a missing file, a short file or a non-hex word) and every field
+// must be this instance's; then the data words are copied into the ROM.  A bad image prints
+// what was expected and what was found and ends the run with a non-zero exit status: $fatal
+// under Icarus (it accepts it with -g2005 and vvp exits with 1), $stop under other simulators
+// (Verilator exits with an error; $fatal is SystemVerilog, which Verilator's 1364-2005 mode
+// refuses).  Synthesis (SYNTHESIS defined, as Yosys does) skips the check.
+localparam ROM_CHUNKS = (32 + R_WIDTH - 1) / R_WIDTH;
+localparam ROM_FIELDS = 7;
+localparam ROM_WORDS = ROM_DEPTH + ROM_FIELDS * ROM_CHUNKS;
+
+reg [R_WIDTH-1:0] recip_image [0:ROM_WORDS-1];
+
+// Field f as this instance expects it (the checksum, field 5, is computed from the data)
+function [31:0] rom_expected(input integer f);
+    begin
+        case (f)
+            0: rom_expected = "DIVR";
+            1: rom_expected = ROM_DEPTH;
+            2: rom_expected = R_WIDTH;
+            3: rom_expected = K_WIDTH;
+            4: rom_expected = RECIP_BITS;
+            default: rom_expected = "END!";
+        endcase
+    end
+endfunction
+
+function [8*10-1:0] rom_field_name(input integer f);
+    begin
+        case (f)
+            0: rom_field_name = "magic";
+            1: rom_field_name = "depth";
+            2: rom_field_name = "width";
+            3: rom_field_name = "K_WIDTH";
+            4: rom_field_name = "RECIP_BITS";
+            5: rom_field_name = "checksum";
+            default: rom_field_name = "end mark";
+        endcase
+    end
+endfunction
+
+integer              chk_i;
+integer              chk_p;
+reg                  chk_bad;
+reg [R_WIDTH+31:0]   chk_word;
+reg [R_WIDTH+31:0]   chk_found;
+reg [R_WIDTH+31:0]   chk_want;
+reg [31:0]           chk_sum;
+
+initial begin
+    $readmemh(ROM_FILE, recip_image);
+    chk_bad = 1'b0;
+    for (chk_i = 0; chk_i < ROM_WORDS; chk_i = chk_i + 1) begin
+        if (!chk_bad && ^recip_image[chk_i] === 1'bx) begin
+            $write("%m: ROM_FILE \"%0s\": word %0d is undefined: ", ROM_FILE, chk_i);
+            $write("the file is missing or unreadable, has fewer than the %0d words ", ROM_WORDS);
+            $write("of this image (%0d data + %0d check words of %0d bits) ",
+                   ROM_DEPTH, ROM_WORDS - ROM_DEPTH, R_WIDTH);
+            $display("or a non-hex word there; regenerate it with make roms");
+            chk_bad = 1'b1;
+        end
+    end
+    chk_sum = 32'h811c9dc5;
+    for (chk_i = 0; chk_i < ROM_DEPTH; chk_i = chk_i + 1) begin
+        chk_word = {32'h00000000, recip_image[chk_i]};
+        for (chk_p = 0; chk_p < R_WIDTH; chk_p = chk_p + 32) begin
+            chk_sum = (chk_sum ^ chk_word[chk_p +: 32]) * 32'h01000193;
+        end
+    end
+    for (chk_i = 0; chk_i < ROM_FIELDS; chk_i = chk_i + 1) begin
+        chk_found = {(R_WIDTH+32){1'b0}};
+        for (chk_p = ROM_CHUNKS - 1; chk_p >= 0; chk_p = chk_p - 1) begin
+            chk_found = (chk_found << R_WIDTH)
+                        | {32'h00000000, recip_image[ROM_DEPTH + chk_i * ROM_CHUNKS + chk_p]};
+        end
+        chk_want = {{R_WIDTH{1'b0}}, (chk_i == 5) ? chk_sum : rom_expected(chk_i)};
+        if (!chk_bad && chk_found !== chk_want) begin
+            $write("%m: ROM_FILE \"%0s\": check field %0s is %0d (0x%0h), ",
+                   ROM_FILE, rom_field_name(chk_i), chk_found, chk_found);
+            $write("this instance needs %0d (0x%0h): %0s the divider_shift image ", chk_want,
+                   chk_want, (chk_i == 5) ? "a data word differs from" : "the file is not");
+            $write("for K_WIDTH = %0d, RECIP_BITS = %0d (model.divider.rom_path); ",
+                   K_WIDTH, RECIP_BITS);
+            $display("regenerate it with make roms");
+            chk_bad = 1'b1;
+        end
+    end
+    if (chk_bad) begin
+`ifdef __ICARUS__
+        $fatal(1, "%m: bad ROM image (see above)");
+`else
+        $stop;
+`endif
+    end
+    for (chk_i = 0; chk_i < ROM_DEPTH; chk_i = chk_i + 1) begin
+        recip_rom[chk_i] = recip_image[chk_i];
+    end
+end
+`endif
 
 // Operand registers
 reg [A_WIDTH-1:0] a_reg = {A_WIDTH{1'b0}};
@@ -80,6 +207,9 @@ reg               k_zero_reg = 1'b1;
 reg [Q_WIDTH-1:0] shift_reg = {Q_WIDTH{1'b0}};
 reg [Q_WIDTH-1:0] acc_reg = {Q_WIDTH{1'b0}};
 reg [R_WIDTH-1:0] bits_reg = {R_WIDTH{1'b0}};
+// k = 0 of the division that runs (latched at start: a k write in the start cycle is for the
+// next division and must not reach this one's div_zero)
+reg               run_zero_reg = 1'b0;
 
 // Control and outputs
 reg               busy_reg = 1'b0;
@@ -112,6 +242,7 @@ always @(posedge clk) begin
             shift_reg <= {a_reg, {RECIP_BITS{1'b0}}};
             acc_reg <= {Q_WIDTH{1'b0}};
             bits_reg <= k_zero_reg ? {R_WIDTH{1'b0}} : recip_reg;
+            run_zero_reg <= k_zero_reg;
         end
     end else begin
         acc_reg <= acc_next;
@@ -122,7 +253,7 @@ always @(posedge clk) begin
             busy_reg <= 1'b0;
             valid_reg <= 1'b1;
             q_reg <= acc_next;
-            div_zero_reg <= k_zero_reg;
+            div_zero_reg <= k_zero_reg;  // MUTANT: the k register at result time
         end
     end
 
@@ -133,6 +264,7 @@ always @(posedge clk) begin
         shift_reg <= {Q_WIDTH{1'b0}};
         acc_reg <= {Q_WIDTH{1'b0}};
         bits_reg <= {R_WIDTH{1'b0}};
+        run_zero_reg <= 1'b0;
         busy_reg <= 1'b0;
         valid_reg <= 1'b0;
         q_reg <= {Q_WIDTH{1'b0}};

