@@ -22,8 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from model import divider, specular
-from model.accuracy import format_up
+from model.units import divider, specular
+from model.units.fixed import format_up
 
 
 def divider_table1(recip_bits: int = 8, dividend: int = 255) -> list[dict]:
@@ -83,7 +83,7 @@ def format_trade(k_max: int = 2047, bits: range = range(4, 21)) -> str:
 def accuracy_report() -> str:
     """``make accuracy``: the figures table, then the tables the README carries (the model's
     ``accuracy.figures`` computes everything; this only prints)."""
-    from model import accuracy
+    from model.study import accuracy
 
     began = time.perf_counter()
     figs = accuracy.figures()
@@ -112,7 +112,7 @@ def write_roms() -> None:
 
 def demo(scene_name: str, size: int, out_dir: Path) -> int:
     """The main job: the scene through every method, images into ``out_dir``, the table."""
-    from model import report
+    from model.study import report
 
     began = time.perf_counter()
     print(f"== {scene_name}, {size} x {size}: every method against (a) exact Blinn ==")
@@ -128,7 +128,7 @@ def demo(scene_name: str, size: int, out_dir: Path) -> int:
 
 def bench(scene_name: str, size: int, repeats: int) -> int:
     """Speed of the bit-exact pipeline against the float references, in one run, as ratios."""
-    from model import report
+    from model.study import report
 
     run = report.run_methods(
         scene_name, size, methods=["exact", "phong", "hybrid", "adaptive"], repeats=repeats
@@ -221,7 +221,9 @@ def main(argv: list[str] | None = None) -> int:
     try:
         return _run(args)
     except Exception as exc:
-        from model.report import SetupError  # here: `divider-table` need not import the renderer
+        from model.study.report import (
+            SetupError,  # here: `divider-table` need not import the renderer
+        )
 
         if not isinstance(exc, SetupError):
             raise
@@ -233,13 +235,13 @@ def main(argv: list[str] | None = None) -> int:
 
 def _run(args: argparse.Namespace) -> int:
     if args.command == "trade":
-        from model import trade
+        from model.study import trade
 
         return trade.main(
             args.scenes, args.size, args.grid, args.out, args.workers, args.scheduler, args.figure
         )
     if args.command == "demo":
-        from model import report
+        from model.study import report
 
         report.check_output_dir("--out", args.out)
         return demo(args.scene, args.size, args.out)

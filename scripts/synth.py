@@ -14,11 +14,8 @@ import sys
 import tempfile
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
-
-from model import divider, gouraud, specular  # noqa: E402
-from sim.runner import hdl_parameters  # noqa: E402
+from model.units import divider, gouraud, specular
+from sim.runner import RTL_DIR, hdl_parameters
 
 
 def unit_parameters() -> dict[str, dict[str, object]]:
@@ -40,7 +37,7 @@ def synthesise(toplevel: str, params: dict[str, object]) -> dict[str, int]:
             f'-set {k} "{v}"' if isinstance(v, str) else f"-set {k} {v}" for k, v in params.items()
         )
         script = (
-            f"read_verilog -defer {ROOT / 'rtl' / (toplevel + '.v')}; "
+            f"read_verilog -defer {RTL_DIR / (toplevel + '.v')}; "
             f"chparam {chparams} {toplevel}; synth_ice40 -top {toplevel}; "
             f"tee -q -o {stat} stat -json"
         )

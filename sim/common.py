@@ -36,7 +36,7 @@ import cocotb
 from cocotb.clock import Clock
 from cocotb.triggers import FallingEdge, ReadOnly, RisingEdge, with_timeout
 
-from model import fixed
+from model.units import fixed
 from sim import soak, units
 from sim.protocol import Job, Port, ProtocolModel, Stats, compare, from_field
 

@@ -28,7 +28,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Literal
 
-from model import fixed
+from model.units import fixed
 
 OutputKind = Literal["data", "flag", "strobe"]
 

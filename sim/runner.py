@@ -11,21 +11,19 @@ from __future__ import annotations
 import json
 import os
 import shutil
-import sys
 from dataclasses import asdict, is_dataclass
+from importlib.resources import files
 from pathlib import Path
 
 from cocotb_tools.check_results import get_results
 from cocotb_tools.runner import get_runner
 
-from model import divider
+from model.units import divider
 
-ROOT = Path(__file__).resolve().parent.parent
-# The bench subprocess gets this process's sys.path: make sure it can import ``sim``.
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
-RTL_DIR = ROOT / "rtl"
-SIM_BUILD = ROOT / "sim_build"
+# The RTL is the package data ``model.rtl``; builds go to $SIM_BUILD, default ./sim_build in the
+# caller's folder.  ``sim`` itself is an installed package: benches run from any folder.
+RTL_DIR = Path(str(files("model.rtl")))
+SIM_BUILD = Path(os.environ.get("SIM_BUILD", "sim_build")).resolve()
 
 
 def require_iverilog() -> None:

@@ -25,8 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
-from model import pipeline, raster, scene
-from model.pipeline import PipelineConfig, UnitJobs
+from model.render import pipeline, raster, scene
+from model.render.pipeline import PipelineConfig, UnitJobs
 from sim.runner import SIM_BUILD, hdl_parameters, run_bench
 
 

@@ -21,15 +21,16 @@ import re
 import shutil
 import subprocess
 from dataclasses import dataclass, field
+from importlib.resources import files
 from pathlib import Path
 
-from model.specular import N_MAX, SpecularConfig
+from model.units.specular import N_MAX, SpecularConfig
 from sim import units
 from sim.protocol import Job, Port, ProtocolModel, Stats, UnitSpec, from_field, to_field
 
 SIM_DIR = Path(__file__).resolve().parent
 VECTOR_DIR = SIM_DIR / "vectors"
-RTL_DIR = SIM_DIR.parent / "rtl"
+RTL_DIR = Path(str(files("model.rtl")))
 
 # Per cycle: chance of a reset (held 1..3 cycles), of start, of each write strobe.
 P_RESET = 0.0015

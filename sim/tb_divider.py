@@ -8,8 +8,8 @@ import os
 import cocotb
 from cocotb.triggers import ReadOnly, RisingEdge
 
-from model import divider
-from model.divider import DividerConfig
+from model.units import divider
+from model.units.divider import DividerConfig
 from sim.common import (
     ProtocolMonitor,
     UnitTB,

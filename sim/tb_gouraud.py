@@ -12,8 +12,8 @@ import random
 
 import cocotb
 
-from model import divider, fixed, gouraud
-from model.gouraud import GouraudConfig
+from model.units import divider, fixed, gouraud
+from model.units.gouraud import GouraudConfig
 from sim.common import (
     ProtocolMonitor,
     UnitTB,

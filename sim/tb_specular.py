@@ -9,8 +9,8 @@ import cocotb
 import numpy as np
 from cocotb.triggers import ReadOnly, RisingEdge
 
-from model import specular
-from model.specular import SpecularConfig
+from model.units import specular
+from model.units.specular import SpecularConfig
 from sim.common import (
     ProtocolMonitor,
     UnitTB,

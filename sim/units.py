@@ -8,10 +8,10 @@ vector soak all take both from here.
 
 from __future__ import annotations
 
-from model import divider, gouraud, specular
-from model.divider import DividerConfig
-from model.gouraud import GouraudConfig
-from model.specular import SpecularConfig
+from model.units import divider, gouraud, specular
+from model.units.divider import DividerConfig
+from model.units.gouraud import GouraudConfig
+from model.units.specular import SpecularConfig
 from sim.protocol import Expect, Job, Port, UnitSpec
 
 # The specular unit's n register is 10 bits (n = 0 and 1001..1023 raise n_err).

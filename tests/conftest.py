@@ -1,14 +1,8 @@
-"""Shared pytest set-up: the repository root on sys.path (for ``sim``); the regression summary."""
+"""Shared pytest set-up: the RTL regression summary; the seed variables checked once."""
 
 from __future__ import annotations
 
-import sys
 from collections import defaultdict
-from pathlib import Path
-
-ROOT = Path(__file__).resolve().parent.parent
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
 
 
 def pytest_configure(config) -> None:

@@ -16,9 +16,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from model import accuracy, divider, gouraud, specular
 from model.cli import format_trade
-from model.specular import DEFAULT, SpecularConfig
+from model.study import accuracy
+from model.units import divider, gouraud, specular
+from model.units.specular import DEFAULT, SpecularConfig
 
 ROOT = Path(__file__).resolve().parent.parent
 

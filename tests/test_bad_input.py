@@ -17,8 +17,11 @@ import time
 import numpy as np
 import pytest
 
-from model import cli, divider, raster, scene, specular, trade
+from model import cli
 from model.cli import main
+from model.render import raster, scene
+from model.study import trade
+from model.units import divider, specular
 from sim.runner import env_seed
 
 ROOT = scene.REPO_ROOT
@@ -294,7 +297,7 @@ def test_second_sweep_on_the_same_out_is_refused_naming_lock_and_pid(
             sys.executable,
             "-c",
             "import sys, time\n"
-            "from model import trade\n"
+            "from model.study import trade\n"
             "lock = trade.sweep_lock(sys.argv[1])\n"
             "lock.__enter__()\n"
             "print('held', flush=True)\n"

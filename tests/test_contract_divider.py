@@ -13,8 +13,8 @@ from fractions import Fraction
 import numpy as np
 import pytest
 
-from model import divider
-from model.divider import DEFAULT, DividerConfig
+from model.units import divider
+from model.units.divider import DEFAULT, DividerConfig
 from sim import soak, units
 from sim.runner import unit_parameters
 from tests.contract_protocol import Drive, column, ones

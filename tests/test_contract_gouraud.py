@@ -15,8 +15,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from model import fixed, gouraud
-from model.gouraud import DEFAULT, GouraudConfig
+from model.units import fixed, gouraud
+from model.units.gouraud import DEFAULT, GouraudConfig
 from sim import soak, units
 from sim.runner import unit_parameters
 from tests.contract_protocol import Drive, column, ones

@@ -12,8 +12,8 @@ import math
 import numpy as np
 import pytest
 
-from model import specular
-from model.specular import DEFAULT, N_MAX, SpecularConfig
+from model.units import specular
+from model.units.specular import DEFAULT, N_MAX, SpecularConfig
 from sim import soak, units
 from tests.contract_protocol import Drive, column, ones
 

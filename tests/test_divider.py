@@ -9,10 +9,10 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from model import divider
-from model.accuracy import format_up
 from model.cli import divider_table1
-from model.divider import ARTICLE, DEFAULT, DividerConfig
+from model.study.accuracy import format_up
+from model.units import divider
+from model.units.divider import ARTICLE, DEFAULT, DividerConfig
 
 # Table 1 of the article (SEEDS.md section 3): k -> (terms as exponents j of 1/2**j, error, rel %).
 # These are the article's published figures, compared with values recomputed from the formula.

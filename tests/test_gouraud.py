@@ -11,8 +11,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from model import divider, fixed, gouraud
-from model.gouraud import DEFAULT, GouraudConfig
+from model.units import divider, fixed, gouraud
+from model.units.gouraud import DEFAULT, GouraudConfig
 
 README = Path(__file__).resolve().parent.parent / "README.md"
 

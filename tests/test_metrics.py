@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from model import images, metrics
+from model.study import images, metrics
 
 
 def ref_image(h: int = 8, w: int = 10, value: int = 100) -> np.ndarray:

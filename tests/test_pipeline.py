@@ -5,8 +5,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from model import divider, gouraud, metrics, pipeline, raster, reference, scene, specular
-from model.pipeline import METHODS, PipelineConfig
+from model.render import pipeline, raster, reference, scene
+from model.render.pipeline import METHODS, PipelineConfig
+from model.study import metrics
+from model.units import divider, gouraud, specular
 
 
 @pytest.fixture(scope="module")

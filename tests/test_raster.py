@@ -7,9 +7,9 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from model import raster, reference, scene
-from model.raster import ShadeResult, per_span, rasterise, render, screen_spans, shade, slerp
-from model.scene import Camera, Light, Material, Mesh, Scene, SceneObject
+from model.render import raster, reference, scene
+from model.render.raster import ShadeResult, per_span, rasterise, render, screen_spans, shade, slerp
+from model.render.scene import Camera, Light, Material, Mesh, Scene, SceneObject
 
 # ------------------------------------------------------------------------------------------------
 # helpers

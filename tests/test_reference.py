@@ -7,15 +7,15 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from model import raster, reference, scene
-from model.raster import rasterise, render, shade, slerp
-from model.reference import (
+from model.render import raster, reference, scene
+from model.render.raster import rasterise, render, shade, slerp
+from model.render.reference import (
     highlight_threshold,
     max_dot_over_spherical_triangle,
     quantise,
     triangle_may_show_highlight,
 )
-from model.scene import Camera, Light, Material, Mesh, Scene, SceneObject
+from model.render.scene import Camera, Light, Material, Mesh, Scene, SceneObject
 
 
 def test_quantise_rounds_half_up_and_saturates() -> None:

@@ -4,8 +4,9 @@ from __future__ import annotations
 
 import pytest
 
-from model import divider, report, specular
 from model.cli import main
+from model.study import report
+from model.units import divider, specular
 
 
 @pytest.fixture(scope="module")

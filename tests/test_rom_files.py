@@ -17,8 +17,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from model import divider, rom, specular
-from model.rom import RomFileError
+from model.units import divider, rom, specular
+from model.units.rom import RomFileError
 
 ROOT = Path(__file__).resolve().parent.parent
 RTL = ROOT / "rtl"

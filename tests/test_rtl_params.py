@@ -34,7 +34,7 @@ from pathlib import Path
 
 import pytest
 
-from model import divider, gouraud, specular
+from model.units import divider, gouraud, specular
 
 ROOT = Path(__file__).resolve().parent.parent
 RTL = ROOT / "rtl"

@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from model import gouraud, specular
+from model.units import gouraud, specular
 
 RTL = Path(__file__).resolve().parent.parent / "rtl"
 

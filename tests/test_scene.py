@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 import trimesh
 
-from model import scene
-from model.scene import Camera, Light, Material, Mesh, Scene, SceneObject
+from model.render import scene
+from model.render.scene import Camera, Light, Material, Mesh, Scene, SceneObject
 
 
 @pytest.fixture(scope="module")

@@ -6,7 +6,7 @@ from pathlib import Path
 
 import pytest
 
-from model import divider
+from model.units import divider
 from sim.runner import hdl_parameters, run_bench
 from tests.conftest import record_sim
 

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from model.gouraud import GouraudConfig
+from model.units.gouraud import GouraudConfig
 from sim.runner import hdl_parameters, run_bench
 from tests.conftest import record_sim
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from model import raster, reference, scene
+from model.render import raster, reference, scene
 from sim.scene_cosim import cosimulate
 
 pytestmark = pytest.mark.sim

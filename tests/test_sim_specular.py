@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from model import specular
+from model.units import specular
 from sim.runner import run_bench
 from tests.conftest import record_sim
 

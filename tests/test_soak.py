@@ -13,7 +13,7 @@ from pathlib import Path
 
 import pytest
 
-from model import divider, gouraud, specular
+from model.units import divider, gouraud, specular
 from sim import soak
 from sim.runner import SIM_BUILD, env_seed, unit_parameters
 from tests.conftest import record_sim

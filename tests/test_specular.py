@@ -11,9 +11,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from model import specular
-from model.accuracy import format_up
-from model.specular import DEFAULT, INFLECTION, NARROW, PROTOTYPE, SpecularConfig
+from model.study.accuracy import format_up
+from model.units import specular
+from model.units.specular import DEFAULT, INFLECTION, NARROW, PROTOTYPE, SpecularConfig
 
 ROOT = Path(__file__).resolve().parent.parent
 CONFIGS = list(specular.ROM_CONFIGS.items())

@@ -8,7 +8,9 @@ import hashlib
 import numpy as np
 import pytest
 
-from model import divider, gouraud, pipeline, specular, trade
+from model.render import pipeline
+from model.study import trade
+from model.units import divider, gouraud, specular
 
 TINY = 32
 

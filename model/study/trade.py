@@ -80,7 +80,9 @@ from pathlib import Path
 
 import numpy as np
 
-from model import divider, gouraud, metrics, pipeline, raster, reference, report, scene, specular
+from model.render import pipeline, raster, reference, scene
+from model.study import metrics, report
+from model.units import divider, gouraud, specular
 
 CACHE_VERSION = 4
 """Part of every key: bump it when a figure's definition changes, so old cache files are unused."""

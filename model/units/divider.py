@@ -26,7 +26,7 @@ from fractions import Fraction
 import numpy as np
 from numba import njit
 
-from model import fixed, rom
+from model.units import fixed, rom
 
 
 @dataclass(frozen=True)

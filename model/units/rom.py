@@ -21,11 +21,14 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass
+from importlib.resources import files
 from pathlib import Path
 
 import numpy as np
 
-ROM_DIR = Path(__file__).resolve().parent.parent / "rtl" / "rom"
+# rtl/ is installed as the package data ``model.rtl`` (the checkout's rtl/ under the editable
+# install ``make setup`` makes, so ``make roms`` writes into the repository).
+ROM_DIR = Path(str(files("model.rtl"))) / "rom"
 
 
 def hex_digits(width: int) -> int:

@@ -19,7 +19,9 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from model import images, metrics, pipeline, raster, reference, scene, specular
+from model.render import pipeline, raster, reference, scene
+from model.study import images, metrics
+from model.units import specular
 
 METHOD_LABELS: dict[str, str] = {
     "exact": "(a) exact Blinn, spherical interpolation (float)",

@@ -64,7 +64,7 @@ from dataclasses import dataclass, field, fields
 import numpy as np
 from numba import njit
 
-from model.scene import Material, Scene, SceneObject
+from model.render.scene import Material, Scene, SceneObject
 
 NEAR = 1e-3
 """Camera depth below which a vertex counts as behind the eye (its triangle is dropped)."""

@@ -28,6 +28,7 @@ from above); the tessellation is manifold, consistently wound and oriented outwa
 from __future__ import annotations
 
 import math
+import os
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -39,8 +40,10 @@ MAX_RESOLUTION = 4096
 """Largest image side in pixels the scene accepts (an 'absurd' resolution is refused)."""
 MAX_LIGHT_INTENSITY = 16.0
 
-REPO_ROOT = Path(__file__).resolve().parent.parent
-TEAPOT_PATH = REPO_ROOT / "data" / "teapot.bez"
+REPO_ROOT = Path(__file__).resolve().parents[2]
+# The fetched (not shipped) teapot: $SHADING_DATA/teapot.bez if set, else the checkout's data/.
+DATA_DIR = Path(os.environ.get("SHADING_DATA", REPO_ROOT / "data"))
+TEAPOT_PATH = DATA_DIR / "teapot.bez"
 TEAPOT_FETCH = "scripts/fetch-teapot.sh"
 TEAPOT_PATCHES = 28
 

@@ -44,7 +44,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from model import fixed
+from model.units import fixed
 
 LANE_COUNTS = (2, 4, 8, 16)  # P the unit (model and RTL) accepts
 NETWORK_MAX_P = 64  # increment_count / increment_network enumerate up to this segment size

@@ -40,7 +40,7 @@ from pathlib import Path
 import numpy as np
 from numba import njit
 
-from model import fixed, rom
+from model.units import fixed, rom
 
 N_WIDTH = 10
 """Width of the n register and of the decoder: n = 1..1000 needs 10 bits (the patent says 9)."""
@@ -1415,9 +1415,7 @@ def _worst(values: np.ndarray, lo: int, hi: int) -> tuple[float, int]:
 
 
 def _up(value: float, digits: int, scale: int = 1) -> str:
-    from model.accuracy import format_up  # the one rounding-up rule of every printed figure
-
-    return format_up(value, digits, scale)
+    return fixed.format_up(value, digits, scale)
 
 
 def float_errors(cfg: SpecularConfig = DEFAULT) -> np.ndarray:

@@ -5,22 +5,15 @@ walks in numba), ``format_figures`` prints the table the README carries: figure,
 conditions under which it holds and why the value is the worst case.  Values are rounded *up*
 to the printed digits (``format_up``), so a printed bound is never below what was measured.
 
-The units are imported inside ``figures`` only: their report tables import ``format_up`` from
-here, so this module sits below them at import time and above them when it computes.
+``format_up`` lives in ``model.units.fixed`` (the units' report tables use it too).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
-from decimal import ROUND_CEILING, Decimal
 from typing import Any
 
-
-def format_up(value: float, digits: int, scale: int = 1) -> str:
-    """``value * scale`` with ``digits`` decimals, rounded toward +infinity from the exact float
-    value: a worst case printed this way is an upper bound, never a rounded-down miss."""
-    exact = Decimal(value) * scale
-    return f"{exact.quantize(Decimal(1).scaleb(-digits), rounding=ROUND_CEILING):.{digits}f}"
+from model.units.fixed import format_up
 
 
 @dataclass(frozen=True)
@@ -58,7 +51,7 @@ def figures() -> Figures:
     """Compute every accuracy figure of the README (default configurations unless named)."""
     import numpy as np
 
-    from model import divider, gouraud, specular
+    from model.units import divider, gouraud, specular
 
     s_cfg = specular.DEFAULT
     accs = {name: specular.fixed_point_accuracy(c) for name, c in specular.ROM_CONFIGS.items()}

@@ -34,9 +34,9 @@ from dataclasses import dataclass, field
 import numpy as np
 from numba import njit
 
-from model import divider, fixed, gouraud, specular
-from model.raster import ShadeContext, ShadeResult, Spans
-from model.reference import object_highlight_flags
+from model.render.raster import ShadeContext, ShadeResult, Spans
+from model.render.reference import object_highlight_flags
+from model.units import divider, fixed, gouraud, specular
 
 SPECULAR_MODES = ("unit", "vertex", "adaptive")
 

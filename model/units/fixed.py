@@ -12,6 +12,7 @@ call them; they also run un-jitted under ``NUMBA_DISABLE_JIT=1``.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from decimal import ROUND_CEILING, Decimal
 
 import numpy as np
 from numba import njit
@@ -152,3 +153,10 @@ def from_bits(bits: int, width: int) -> int:
     """The two's-complement integer a ``width``-bit pattern stands for."""
     bits &= (1 << width) - 1
     return bits - (1 << width) if bits >> (width - 1) else bits
+
+
+def format_up(value: float, digits: int, scale: int = 1) -> str:
+    """``value * scale`` with ``digits`` decimals, rounded toward +infinity from the exact float
+    value: a worst case printed this way is an upper bound, never a rounded-down miss."""
+    exact = Decimal(value) * scale
+    return f"{exact.quantize(Decimal(1).scaleb(-digits), rounding=ROUND_CEILING):.{digits}f}"

@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from model.raster import (
+from model.render.raster import (
     LightingParams,
     ShadeContext,
     ShadeResult,
@@ -36,7 +36,7 @@ from model.raster import (
     _slerp3,
     lighting_vectors,
 )
-from model.scene import Scene, check_int, check_range
+from model.render.scene import Scene, check_int, check_range
 
 METHOD_EXACT, METHOD_PHONG, METHOD_GOURAUD = 0, 1, 2
 _METHODS = {"exact_blinn": METHOD_EXACT, "phong": METHOD_PHONG, "gouraud_float": METHOD_GOURAUD}

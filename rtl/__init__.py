@@ -1,0 +1,2 @@
+"""Package-data marker: rtl/ is installed as ``model.rtl`` (the Verilog and rom/*.hex), so the
+model and the benches find it from any folder.  Not Verilog; FPGA users can ignore this file."""
