@@ -10,7 +10,7 @@ PYTEST := $(PY) -m pytest
 # Parallel pytest workers for the cocotb regressions (each bench builds in its own folder).
 JOBS   ?= auto
 
-.PHONY: setup tools demo test model-test sim lint roms synth bench trade accuracy clean
+.PHONY: setup tools demo test model-test sim lint roms synth bench trade pictures accuracy clean
 
 setup: $(STAMP) data/teapot.bez
 
@@ -63,13 +63,22 @@ accuracy: setup
 	$(PY) -m model accuracy
 
 # Pixels per second of the bit-exact pipeline against the float references (one run, ratios),
-# and of the RTL scene co-simulation.
+# then of the RTL scene co-simulation (sphere 64 x 64 through the three units under Icarus).
 bench: setup tools
 	$(PY) -m model bench
+	$(PY) -m sim bench
 
 # The speed/accuracy trade: sweep every knob over the built-in scenes (Dask; cached, resumable).
 trade: setup
 	$(PY) -m model trade
+
+# Every picture README.md and docs/ show, made again: the demo's sheet (copied to
+# docs/demo_sheet.png), the trade figure, and docs/pictures.json, what each was made from
+# (tests/test_pictures.py checks that they are current).
+pictures: setup
+	$(PY) -m model demo
+	$(PY) -m model trade --figure docs/
+	$(PY) -m model.study.report pictures
 
 # Yosys (iCE40) synthesis of every unit at its default configuration: resource table.
 synth: setup

@@ -22,12 +22,16 @@
  * start is already accepted.  len = 0 gives one empty segment: valid with mask = 0, last = 1.
  * Every output equals model.gouraud.unit_results() bit for bit.
  *
- * Protocol (DESIGN.md): operands are sampled with their write strobes while busy = 0;
+ * Protocol (docs/architecture.md, "The protocol every unit follows"): operands are sampled
+ * with their write strobes while busy = 0;
  * a start accepted in the same cycle as a write runs on the values held before it.
  *
  * Checks: a parameter set model.gouraud.GouraudConfig refuses is refused at elaboration (an
  * instance of a module that does not exist, named after the rule, e.g.
  * gouraud_segment_PARAMETER_ERROR_P_must_be_2_4_8_or_16).
+ *
+ * Documentation: docs/gouraud.md (ports, formats, parameters, timing, accuracy, the contract
+ * and its tests); docs/architecture.md (the protocol, the benches).
  */
 
 `resetall

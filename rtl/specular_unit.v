@@ -4,7 +4,7 @@
  * intervals.  k is chosen from n by the decoder (block 10), a(n) read from ROM 9, cos^k from
  * ROM 12 (one table per k).  Every result equals model.specular.unit_line() bit for bit.
  *
- * Formats (model/specular.py, SpecularConfig):
+ * Formats (model/units/specular/, SpecularConfig; docs/specular.md):
  *   c_in   unsigned Q(C_INT_BITS).(C_FRAC_BITS), output LSBs
  *   dz_in, z0_in  signed Q(Z_INT_BITS).(Z_FRAC_BITS), units of pi/2
  *   n_in   10 bits, 1..1000 (the patent's 9-input decoder would alias every n >= 512);
@@ -23,7 +23,8 @@
  * After the edge that accepts start, busy is high for 5 + l cycles and valid is high in cycles
  * 5 .. 5 + l (the last one together with busy = 0, when a new start is already accepted).
  *
- * Protocol (DESIGN.md): operands are sampled with their write strobes while busy = 0; a start
+ * Protocol (docs/architecture.md, "The protocol every unit follows"): operands are sampled
+ * with their write strobes while busy = 0; a start
  * accepted in the same cycle as a write runs on the values held before it (the run copies the
  * registers at the start edge).  rst_n is synchronous and aborts a line.
  *
@@ -34,6 +35,9 @@
  * must be the value the model derives from them.  In simulation both ROM images are checked at
  * time 0 (see "ROM image check"): a missing, short, malformed or wrong-configuration file ends
  * the run with a message and a non-zero exit status.
+ *
+ * Documentation: docs/specular.md (ports, formats, parameters, timing, accuracy, the contract
+ * and its tests); docs/architecture.md (the protocol, the ROM image format, the benches).
  */
 
 `resetall

@@ -1,9 +1,9 @@
 """Shared cocotb machinery for the unit benches: a driver and a protocol monitor/scoreboard.
 
-Every unit has the same protocol (DESIGN.md): operand registers written by ``<name>_in`` +
-``<name>_we`` while ``busy`` = 0, a one-cycle ``start``, ``busy`` high while the unit works,
-one ``valid`` strobe per result.  A start accepted in the same cycle as a write runs on the
-values the registers held before that write (the write lands for the next run).
+Every unit has the same protocol (docs/architecture.md): operand registers written by
+``<name>_in`` + ``<name>_we`` while ``busy`` = 0, a one-cycle ``start``, ``busy`` high while the
+unit works, one ``valid`` strobe per result.  A start accepted in the same cycle as a write runs
+on the values the registers held before that write (the write lands for the next run).
 
 ``ProtocolMonitor`` samples the DUT after every rising edge (in ReadOnly), steps the protocol
 model (sim/protocol.py) with the inputs that edge sampled, and compares *every* output with the

@@ -1,6 +1,6 @@
 """The load/start/busy/valid protocol as a cycle-by-cycle model: what every output must be.
 
-One implementation of the contract (docs and DESIGN.md rules 1-7), used by two benches:
+One implementation of the contract (docs/architecture.md, rules 1-7), used by two benches:
 the cocotb ``ProtocolMonitor`` (sim/common.py) steps it with the inputs it samples at each
 rising edge and compares the DUT's outputs with its prediction; the vector soak (sim/soak.py)
 steps it over a random stimulus and writes the prediction as the expected-response file of a

@@ -50,7 +50,8 @@ def env_seed(variable: str) -> int | None:
 
 
 def hdl_parameters(config: object, **extra: object) -> dict[str, object]:
-    """Verilog parameters of a unit: its config fields in UPPER_CASE (DESIGN.md), plus ``extra``.
+    """Verilog parameters of a unit: its config fields in UPPER_CASE, plus ``extra``
+    (docs/architecture.md).
 
     Only int and bool fields become parameters; ``extra`` adds e.g. ``ROM_FILE``.  A config
     whose parameters are not just its fields (the specular unit's k-set, ROM files) says so

@@ -25,8 +25,10 @@ from pathlib import Path
 
 import numpy as np
 
-from model.render import pipeline, raster, scene
+from model.render import meshes, pipeline, raster, scene, shade
 from model.render.pipeline import PipelineConfig, UnitJobs
+from model.render.shade import ShadeContext
+from model.render.spans import Spans
 from sim.runner import SIM_BUILD, hdl_parameters, run_bench
 
 
@@ -55,11 +57,11 @@ def _collect_jobs(frame_raster: raster.Raster, cfg: PipelineConfig) -> dict[int,
     """Pass 1: the jobs each object's spans send to the units (nothing is shaded)."""
     collected: dict[int, _ObjectJobs] = {}
 
-    def record(spans: raster.Spans, ctx: raster.ShadeContext) -> np.ndarray:
+    def record(spans: Spans, ctx: ShadeContext) -> np.ndarray:
         collected[ctx.obj] = _ObjectJobs(spans.offsets, pipeline.build_jobs(spans, ctx, cfg))
         return np.zeros((spans.n_pixels, 3), dtype=np.uint8)
 
-    raster.shade(frame_raster, record)
+    shade.shade(frame_raster, record)
     return collected
 
 
@@ -102,11 +104,21 @@ def _gouraud_lines(outputs: list[list[dict]], lane_bits: int) -> list[np.ndarray
 
 
 def cosimulate(
-    scene_name: str = "sphere", size: int = 64, method: str = "hybrid", tag: str = "scene"
+    scene_name: str | scene.Scene = "sphere",
+    size: int = 64,
+    method: str = "hybrid",
+    tag: str = "scene",
 ) -> CosimResult:
-    """Render ``scene_name`` at ``size`` x ``size`` through the RTL units and through the model."""
+    """Render ``scene_name`` at ``size`` x ``size`` through the RTL units and through the model.
+
+    ``scene_name`` is a built-in scene's name, or a ``scene.Scene`` (a mesh file's, from
+    ``meshes.scene_from_mesh``), rendered at its own camera's size (``size`` is then unused)."""
     cfg = pipeline.METHODS[method]
-    frame_raster = raster.rasterise(scene.builtin_scene(scene_name, size, size))
+    if isinstance(scene_name, scene.Scene):
+        frame_scene = scene_name
+    else:
+        frame_scene = meshes.builtin_scene(scene_name, size, size)
+    frame_raster = raster.rasterise(frame_scene)
     objects = _collect_jobs(frame_raster, cfg)
     result = CosimResult(rtl_rgb=np.zeros(0), model_rgb=np.zeros(0), pixels=0)
 
@@ -182,11 +194,11 @@ def cosimulate(
             s_out[o.offsets[s] : o.offsets[s + 1]] = next(spec_lines)
         rtl_pixels[obj] = pipeline.assemble(g_out, s_out)
 
-    def replay_shader(spans: raster.Spans, ctx: raster.ShadeContext) -> np.ndarray:
+    def replay_shader(spans: Spans, ctx: ShadeContext) -> np.ndarray:
         return rtl_pixels[ctx.obj]
 
-    result.rtl_rgb = raster.shade(frame_raster, replay_shader).rgb
-    model_frame = raster.shade(frame_raster, pipeline.unit_shader(cfg))
+    result.rtl_rgb = shade.shade(frame_raster, replay_shader).rgb
+    model_frame = shade.shade(frame_raster, pipeline.unit_shader(cfg))
     result.model_rgb = model_frame.rgb
     result.pixels = model_frame.stats.pixels_shaded
     for unit, run in (

@@ -1,9 +1,9 @@
 """Every accuracy figure is a worst case: ``python -m model accuracy`` (``model.accuracy``).
 
 The figures are checked three ways: the printed value is the computed one rounded *up* (never a
-rounded-down miss), the README carries exactly what the command prints, and each search is
-exhaustive: its worst case is replayed through the bit-exact model, and on a reduced
-configuration the search equals a brute force over every input.
+rounded-down miss), the unit pages (docs/<unit>.md) carry exactly what the command prints, and
+each search is exhaustive: its worst case is replayed through the bit-exact model, and on a
+reduced configuration the search equals a brute force over every input.
 """
 
 from __future__ import annotations
@@ -23,7 +23,10 @@ from model.units.specular import DEFAULT, SpecularConfig
 
 ROOT = Path(__file__).resolve().parent.parent
 
-# What the README states (``python -m model accuracy``), rounded up to the printed digits.
+# The unit pages that carry the figures (docs/<unit>.md, section "Accuracy").
+DOCUMENTED_ON = ("divider", "gouraud", "specular")
+
+# What the unit pages state (``python -m model accuracy``), rounded up to the printed digits.
 DOCUMENTED = {
     "float_patent": "1.0895 %",
     "float_patent_6": "0.8806 %",
@@ -89,14 +92,33 @@ def test_format_up_rounds_toward_plus_infinity() -> None:
     assert accuracy.format_up(0.5, 2) == "0.50"
 
 
-def test_readme_carries_what_the_command_prints(figs) -> None:
-    readme = (ROOT / "README.md").read_text()
-    assert accuracy.format_figures(figs) in readme
-    assert specular.format_brdf_table() in readme
-    assert specular.format_accuracy_table(DEFAULT, figs.specular["default"]) in readme
-    assert specular.format_config_table(figs.specular) in readme
-    assert "make accuracy" in readme and "python -m model accuracy" in readme
-    assert format_trade() in readme  # the divider's worst error of 255/k, every k
+def unit_rows(table: str, unit: str) -> str:
+    """The figures table cut to one unit's rows, under the same header (as its page has it)."""
+    header, rule, *rows = table.splitlines()
+    return "\n".join([header, rule, *(row for row in rows if row.startswith(f"| {unit} |"))])
+
+
+def test_docs_carry_what_the_command_prints(figs) -> None:
+    """Each unit page (docs/<unit>.md) carries its rows of the figures table and its tables."""
+    table = accuracy.format_figures(figs)
+    pages = {unit: (ROOT / "docs" / f"{unit}.md").read_text() for unit in DOCUMENTED_ON}
+    assert {f.unit for f in figs.items} == set(pages), "every unit's figures have a page"
+    for unit, text in pages.items():
+        assert unit_rows(table, unit) in text, f"docs/{unit}.md: its rows of the figures table"
+        assert "make accuracy" in text and "python -m model accuracy" in text, unit
+    spec = pages["specular"]
+    assert specular.format_brdf_table() in spec
+    assert specular.format_accuracy_table(DEFAULT, figs.specular["default"]) in spec
+    assert specular.format_config_table(figs.specular) in spec
+    assert format_trade() in pages["divider"]  # the divider's worst error of 255/k, every k
+
+
+def test_unit_rows_keep_every_row_once(figs) -> None:
+    """The pages together carry every row of the table, each on one page only."""
+    rows = accuracy.format_figures(figs).splitlines()[2:]
+    table = "\n".join(["| header |", "|---|", *rows])
+    cut = [r for unit in DOCUMENTED_ON for r in unit_rows(table, unit).splitlines()[2:]]
+    assert sorted(cut) == sorted(rows)
 
 
 # ==================================================================== the issue's numbers
@@ -173,7 +195,7 @@ SMALL = SpecularConfig(
 
 
 def brute_force(cfg: SpecularConfig) -> dict[str, np.ndarray | float]:
-    t = specular._tables(cfg)
+    t = specular.tables(cfg)
     z_cap = 3 << cfg.z_frac_bits
     z = np.arange(z_cap + 1, dtype=np.int64)
     zeta = z / 2.0**cfg.z_frac_bits * (np.pi / 2)
@@ -186,7 +208,7 @@ def brute_force(cfg: SpecularConfig) -> dict[str, np.ndarray | float]:
         k = specular.decode_k(n, cfg)
         a_word, tsel = int(t.rom9[n]), int(t.tsel[n])
         words = np.empty(z.size, dtype=np.int64)
-        specular._rom12_path(z, a_word, tsel, *t.pixel_args[:4], words)
+        specular.rom12_path_kernel(z, a_word, tsel, *t.pixel_args[:4], words)
         assert words[-1] == 0  # past 3pi/2 nothing lights (the word is non-increasing)
         out = np.minimum((c[:, None] * words + (1 << (shift - 1))) >> shift, cfg.out_max)
         approx = np.cos(np.minimum(specular.alpha_value(n, k, cfg.alpha) * zeta, np.pi / 2)) ** k
@@ -217,13 +239,13 @@ def test_exhaustive_search_equals_brute_force_on_a_small_unit() -> None:
     assert acc.exact_any_c.value == pytest.approx(ref["exact_any"], rel=1e-12)
     # The brute force above reads the words through the model's kernel: the public call agrees.
     rng = np.random.default_rng(11)
-    t = specular._tables(SMALL)
+    t = specular.tables(SMALL)
     picks = zip(
         rng.integers(1, 1001, 50), rng.integers(0, 64, 50), rng.integers(0, 1537, 50), strict=True
     )
     for n, c, z in picks:
         words = np.empty(1, dtype=np.int64)
-        specular._rom12_path(
+        specular.rom12_path_kernel(
             np.array([z]), int(t.rom9[n]), int(t.tsel[n]), *t.pixel_args[:4], words
         )
         expect = min((int(c) * int(words[0]) + (1 << 9)) >> 10, SMALL.out_max)

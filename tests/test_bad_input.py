@@ -19,12 +19,12 @@ import pytest
 
 from model import cli
 from model.cli import main
-from model.render import raster, scene
+from model.render import meshes, raster, scene
 from model.study import trade
 from model.units import divider, specular
 from sim.runner import env_seed
 
-ROOT = scene.REPO_ROOT
+ROOT = meshes.REPO_ROOT
 RUN_SWEEP = trade.run_sweep
 
 
@@ -408,9 +408,9 @@ def test_huge_normal_is_normalised_like_any_other() -> None:
 
 @pytest.fixture(scope="module")
 def teapot_lines() -> list[str]:
-    if not scene.TEAPOT_PATH.is_file():
-        subprocess.run([str(ROOT / scene.TEAPOT_FETCH)], cwd=ROOT, check=True)
-    return scene.TEAPOT_PATH.read_text().splitlines()
+    if not meshes.TEAPOT_PATH.is_file():
+        subprocess.run([str(ROOT / meshes.TEAPOT_FETCH)], cwd=ROOT, check=True)
+    return meshes.TEAPOT_PATH.read_text().splitlines()
 
 
 @pytest.mark.parametrize(
@@ -430,7 +430,7 @@ def test_bad_teapot_file_names_the_file_and_the_line(edit, expect, teapot_lines,
     bad = tmp_path / "teapot.bez"
     bad.write_text("\n".join(edit(teapot_lines)) + "\n")
     with pytest.raises(ValueError) as exc:
-        scene.teapot_mesh(path=bad)
+        meshes.teapot_mesh(path=bad)
     msg = str(exc.value)
     assert msg.startswith(str(bad)) and expect in msg
     if "is not legal: expected three" in msg or "line 6" in msg:
@@ -438,7 +438,7 @@ def test_bad_teapot_file_names_the_file_and_the_line(edit, expect, teapot_lines,
     binary = tmp_path / "binary.bez"
     binary.write_bytes(b"\xff\xfe\x00\x81")
     with pytest.raises(ValueError, match=r"binary\.bez: cannot be read as a text file"):
-        scene.read_bezier_patches(binary)
+        meshes.read_bezier_patches(binary)
 
 
 @pytest.mark.parametrize("variable", ["BENCH_SEED", "SOAK_SEED"])

@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from model.units import specular
+from model.units import rom, specular
 from model.units.specular import DEFAULT, N_MAX, SpecularConfig
 from sim import soak, units
 from tests.contract_protocol import Drive, column, ones
@@ -93,7 +93,7 @@ def test_parameters_are_the_documented_ones(name: str, cfg: SpecularConfig) -> N
     ks = "-".join(str(k) for k in cfg.ks)
     cos_rom = f"specular_cos_k{ks}_a{cfg.rom_addr_bits}_d{cfg.rom_data_bits}.hex"
     for key, file in (("A_ROM_FILE", a_rom), ("COS_ROM_FILE", cos_rom)):
-        path = specular.rom.ROM_DIR / file
+        path = rom.ROM_DIR / file
         assert params[key] == str(path) and path.exists(), key
         assert path.parent.name == "rom" and path.parent.parent.name == "rtl"
     documented = {f.upper() for f in fields} | {"NUM_TABLES", "MAG_INT_BITS"}

@@ -14,7 +14,7 @@ from model.study.accuracy import format_up
 from model.units import divider
 from model.units.divider import ARTICLE, DEFAULT, DividerConfig
 
-# Table 1 of the article (SEEDS.md section 3): k -> (terms as exponents j of 1/2**j, error, rel %).
+# Table 1 of the article (docs/divider.md): k -> (terms as exponents j of 1/2**j, error, rel %).
 # These are the article's published figures, compared with values recomputed from the formula.
 ARTICLE_TABLE1 = {
     2: ([1], 0.0, 0.0),
@@ -132,7 +132,7 @@ def test_default_drift_over_a_whole_line_is_below_a_quarter_level() -> None:
     drift_levels = 255 * np.abs(ks * r - 2**DEFAULT.recip_bits) / 2**DEFAULT.recip_bits
     assert (np.abs(ks * r - 2**DEFAULT.recip_bits) <= ks / 2).all()
     assert drift_levels.max() <= 255 * 2047 / 2**21 < 0.25
-    # Every k tried: the worst case the README prints (rounded up), and N = 19 would have no
+    # Every k tried: the worst case docs/divider.md prints (rounded up), and N = 19 would have no
     # margin, N = 11 is far off.
     for bits, printed in ((20, "0.2486"), (19, "0.4962"), (11, "84.9170")):
         value, _ = divider.line_drift(bits, DEFAULT.k_max)

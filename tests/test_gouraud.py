@@ -14,9 +14,9 @@ from hypothesis import strategies as st
 from model.units import divider, fixed, gouraud
 from model.units.gouraud import DEFAULT, GouraudConfig
 
-README = Path(__file__).resolve().parent.parent / "README.md"
+README = Path(__file__).resolve().parent.parent / "docs" / "gouraud.md"
 
-# The article's table (SEEDS.md section 2): segment size p -> increments one add/sub reaches.
+# The article's table (docs/gouraud.md): segment size p -> increments one add/sub reaches.
 ARTICLE_INCREMENTS = {2: 2, 4: 4, 8: 8, 16: 14, 32: 22, 64: 32}
 
 

@@ -5,22 +5,24 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from model.render import pipeline, raster, reference, scene
+from model.render import meshes, pipeline, raster, reference
 from model.render.pipeline import METHODS, PipelineConfig
+from model.render.shade import ShadeContext, shade
+from model.render.vectors import LightingParams
 from model.study import metrics
 from model.units import divider, gouraud, specular
 
 
 @pytest.fixture(scope="module")
 def sphere_raster() -> raster.Raster:
-    return raster.rasterise(scene.builtin_scene("sphere", 64, 64))
+    return raster.rasterise(meshes.builtin_scene("sphere", 64, 64))
 
 
 def _object_jobs(r: raster.Raster, cfg: PipelineConfig):
     obj = r.objects[0]
-    spans = obj.spans.select(obj.visible_per_span > 0)  # what raster.shade sends a shader
+    spans = obj.spans.select(obj.visible_per_span > 0)  # what shade sends a shader
     sc = r.scene
-    ctx = raster.ShadeContext(sc, 0, sc.objects[0].material, raster.LightingParams.of(sc))
+    ctx = ShadeContext(sc, 0, sc.objects[0].material, LightingParams.of(sc))
     return spans, ctx, pipeline.build_jobs(spans, ctx, cfg)
 
 
@@ -74,13 +76,13 @@ def test_assemble_sums_and_saturates() -> None:
 @pytest.mark.parametrize("name", ["sphere", "torus", "teapot", "quad"])
 def test_hybrid_is_visually_identical_to_exact_blinn(name: str) -> None:
     """The thesis's criterion: NMSE <= 0.00025 against the accuracy reference (a)."""
-    r = raster.rasterise(scene.builtin_scene(name, 128, 128))
-    ref = raster.shade(r, reference.exact_blinn).rgb
-    hybrid = raster.shade(r, pipeline.unit_shader(METHODS["hybrid"])).rgb
+    r = raster.rasterise(meshes.builtin_scene(name, 128, 128))
+    ref = shade(r, reference.exact_blinn).rgb
+    hybrid = shade(r, pipeline.unit_shader(METHODS["hybrid"])).rgb
     assert metrics.nmse(hybrid, ref) <= metrics.NMSE_VISUALLY_IDENTICAL
     # The prototype's single cos^2 table and Gouraud-only are measurably worse.
-    proto = raster.shade(r, pipeline.unit_shader(METHODS["prototype"])).rgb
-    gouraud_only = raster.shade(r, pipeline.unit_shader(METHODS["gouraud"])).rgb
+    proto = shade(r, pipeline.unit_shader(METHODS["prototype"])).rgb
+    gouraud_only = shade(r, pipeline.unit_shader(METHODS["gouraud"])).rgb
     assert metrics.nmse(proto, ref) > metrics.nmse(hybrid, ref)
     assert metrics.nmse(gouraud_only, ref) > metrics.nmse(hybrid, ref)
 
@@ -88,8 +90,7 @@ def test_hybrid_is_visually_identical_to_exact_blinn(name: str) -> None:
 def test_adaptive_equals_hybrid_on_flagged_triangles_and_gouraud_elsewhere(sphere_raster) -> None:
     r = sphere_raster
     frames = {
-        m: raster.shade(r, pipeline.unit_shader(METHODS[m]))
-        for m in ("hybrid", "gouraud", "adaptive")
+        m: shade(r, pipeline.unit_shader(METHODS[m])) for m in ("hybrid", "gouraud", "adaptive")
     }
     flags = reference.object_highlight_flags(r.scene, obj=0, levels=0.5)
     tri = frames["adaptive"].tri_id

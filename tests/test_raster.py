@@ -7,9 +7,12 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from model.render import raster, reference, scene
-from model.render.raster import ShadeResult, per_span, rasterise, render, screen_spans, shade, slerp
+from model.render import meshes, reference
+from model.render.raster import rasterise, screen_spans
 from model.render.scene import Camera, Light, Material, Mesh, Scene, SceneObject
+from model.render.shade import ShadeResult, per_span, render, shade
+from model.render.spans import SPAN_ARRAYS, Spans
+from model.render.vectors import LightingParams, lighting_vectors, slerp
 
 # ------------------------------------------------------------------------------------------------
 # helpers
@@ -231,7 +234,7 @@ def test_triangles_behind_the_eye_are_dropped() -> None:
 
 
 def test_span_ends_are_unit_and_consistent() -> None:
-    sc = scene.builtin_scene("torus", 96, 96)
+    sc = meshes.builtin_scene("torus", 96, 96)
     spans = rasterise(sc).objects[0].spans
     assert len(spans) > 100
     assert np.all(spans.x_start <= spans.x_end)
@@ -243,8 +246,8 @@ def test_span_ends_are_unit_and_consistent() -> None:
     nl = spans.nlin_start / np.linalg.norm(spans.nlin_start, axis=1, keepdims=True)
     assert np.einsum("sk,sk->s", nl, spans.n_start).min() > 0.99
     # H at a span end is the half-vector at that end's world position (local viewer, point light)
-    lp = raster.LightingParams.of(sc)
-    _, _, h = raster.lighting_vectors(spans.p_end, lp)
+    lp = LightingParams.of(sc)
+    _, _, h = lighting_vectors(spans.p_end, lp)
     np.testing.assert_allclose(h, spans.h_end, atol=1e-12)
     one = spans.span(3)
     assert one.length == one.intervals + 1
@@ -326,14 +329,14 @@ def test_slerp_broadcasts() -> None:
 
 
 def test_per_span_adaptor_equals_batch_shader() -> None:
-    sc = scene.builtin_scene("sphere", 48, 48)
+    sc = meshes.builtin_scene("sphere", 48, 48)
     r = rasterise(sc)
 
     def one(span, ctx):
         res = reference.exact_blinn(
-            raster.Spans(
+            Spans(
                 span.obj,
-                *[np.asarray(getattr(span, f))[None] for f in raster._SPAN_ARRAYS],
+                *[np.asarray(getattr(span, f))[None] for f in SPAN_ARRAYS],
             ),
             ctx,
         )
@@ -357,7 +360,7 @@ def test_bad_shader_output_is_refused() -> None:
 
 
 def test_stats() -> None:
-    sc = scene.builtin_scene("quad", 64, 64)
+    sc = meshes.builtin_scene("quad", 64, 64)
     frame = render(sc, reference.exact_blinn)
     st_ = frame.stats
     assert st_.n_values == (1000,)

@@ -7,8 +7,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from model.render import raster, reference, scene
-from model.render.raster import rasterise, render, shade, slerp
+from model.render import meshes, reference
+from model.render.raster import rasterise
 from model.render.reference import (
     highlight_threshold,
     max_dot_over_spherical_triangle,
@@ -16,6 +16,8 @@ from model.render.reference import (
     triangle_may_show_highlight,
 )
 from model.render.scene import Camera, Light, Material, Mesh, Scene, SceneObject
+from model.render.shade import ShadeContext, render, shade
+from model.render.vectors import LightingParams, slerp
 
 
 def test_quantise_rounds_half_up_and_saturates() -> None:
@@ -50,7 +52,7 @@ def test_exact_and_phong_with_a_point_light() -> None:
     # nearby light bends away from: a far light makes them agree everywhere.
     near = flat_scene(Light("point", position=(0.2, -0.3, 1.5)), "local", n=30)
     spans = rasterise(near).objects[0].spans
-    ctx = raster.ShadeContext(near, 0, near.objects[0].material, raster.LightingParams.of(near))
+    ctx = ShadeContext(near, 0, near.objects[0].material, LightingParams.of(near))
     rgb_a, spec_a = reference.float_levels(spans, ctx, "exact_blinn")
     rgb_b, _ = reference.float_levels(spans, ctx, "phong")
     ends = np.concatenate([spans.offsets[:-1], spans.offsets[1:] - 1])
@@ -66,12 +68,12 @@ def test_exact_and_phong_with_a_point_light() -> None:
 
 
 def test_exact_blinn_on_one_span_matches_the_formula() -> None:
-    sc = scene.builtin_scene("torus", 64, 64)
+    sc = meshes.builtin_scene("torus", 64, 64)
     r = rasterise(sc)
     spans = r.objects[0].spans
     i = int(np.argmax(spans.lengths))
     one = spans.select(np.array([i]))
-    ctx = raster.ShadeContext(sc, 0, sc.objects[0].material, raster.LightingParams.of(sc))
+    ctx = ShadeContext(sc, 0, sc.objects[0].material, LightingParams.of(sc))
     rgb, spec = reference.float_levels(one, ctx, "exact_blinn")
     m = sc.objects[0].material
     t = np.linspace(0.0, 1.0, one.n_pixels)
@@ -89,21 +91,21 @@ def test_exact_blinn_on_one_span_matches_the_formula() -> None:
 
 
 def test_one_pixel_span_uses_the_start_values() -> None:
-    sc = scene.builtin_scene("sphere", 64, 64)
+    sc = meshes.builtin_scene("sphere", 64, 64)
     spans = rasterise(sc).objects[0].spans
     ones = spans.select(spans.lengths == 1)
     assert len(ones) > 0
-    ctx = raster.ShadeContext(sc, 0, sc.objects[0].material, raster.LightingParams.of(sc))
+    ctx = ShadeContext(sc, 0, sc.objects[0].material, LightingParams.of(sc))
     _, spec = reference.float_levels(ones, ctx, "exact_blinn")
     ndh = np.maximum(0, np.sum(ones.n_start * ones.h_start, axis=1))
     np.testing.assert_allclose(spec, 255 * 0.4 * ndh**60, rtol=1e-12, atol=1e-12)
 
 
 def test_gouraud_float_interpolates_vertex_values() -> None:
-    sc = scene.builtin_scene("sphere", 64, 64)
+    sc = meshes.builtin_scene("sphere", 64, 64)
     r = rasterise(sc)
     spans = r.objects[0].spans
-    ctx = raster.ShadeContext(sc, 0, sc.objects[0].material, raster.LightingParams.of(sc))
+    ctx = ShadeContext(sc, 0, sc.objects[0].material, LightingParams.of(sc))
     rgb, spec = reference.float_levels(spans, ctx, "gouraud_float")
     lo = spans.offsets[:-1]
     np.testing.assert_allclose(rgb[lo], spans.g_start + spans.s_start[:, None], atol=1e-9)
@@ -111,9 +113,9 @@ def test_gouraud_float_interpolates_vertex_values() -> None:
     np.testing.assert_allclose(spec[lo], spans.s_start)
 
 
-@pytest.mark.parametrize("name", scene.SCENE_NAMES)
+@pytest.mark.parametrize("name", meshes.SCENE_NAMES)
 def test_builtin_scenes_show_a_highlight_and_the_references_differ_sensibly(name) -> None:
-    sc = scene.builtin_scene(name, 96, 96)
+    sc = meshes.builtin_scene(name, 96, 96)
     r = rasterise(sc)
     a = shade(r, reference.exact_blinn)
     b = shade(r, reference.phong)
@@ -126,9 +128,9 @@ def test_builtin_scenes_show_a_highlight_and_the_references_differ_sensibly(name
 
 
 def test_float_levels_rejects_unknown_method() -> None:
-    sc = scene.builtin_scene("sphere", 16, 16)
+    sc = meshes.builtin_scene("sphere", 16, 16)
     spans = rasterise(sc).objects[0].spans
-    ctx = raster.ShadeContext(sc, 0, sc.objects[0].material, raster.LightingParams.of(sc))
+    ctx = ShadeContext(sc, 0, sc.objects[0].material, LightingParams.of(sc))
     with pytest.raises(ValueError, match="method = 'x' is not legal"):
         reference.float_levels(spans, ctx, "x")
 
@@ -198,9 +200,9 @@ def test_highlight_test_is_exact_for_a_constant_h(coords, n, thr) -> None:
         assert may  # conservative: a reachable highlight is never missed
 
 
-@pytest.mark.parametrize("name", scene.SCENE_NAMES)
+@pytest.mark.parametrize("name", meshes.SCENE_NAMES)
 def test_no_visible_highlight_lies_in_a_triangle_flagged_without_one(name) -> None:
-    sc = scene.builtin_scene(name, 128, 128)
+    sc = meshes.builtin_scene(name, 128, 128)
     flags = reference.object_highlight_flags(sc, 0, levels=0.5)
     frame = render(sc, reference.exact_blinn)
     covered = frame.tri_id >= 0

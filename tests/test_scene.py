@@ -9,16 +9,18 @@ import numpy as np
 import pytest
 import trimesh
 
-from model.render import scene
+from model.render import meshes
 from model.render.scene import Camera, Light, Material, Mesh, Scene, SceneObject
 
 
 @pytest.fixture(scope="module")
 def teapot_file():
     """data/teapot.bez (``make setup`` fetches it; fetched here if a fresh tree lacks it)."""
-    if not scene.TEAPOT_PATH.is_file():
-        subprocess.run([str(scene.REPO_ROOT / scene.TEAPOT_FETCH)], cwd=scene.REPO_ROOT, check=True)
-    return scene.TEAPOT_PATH
+    if not meshes.TEAPOT_PATH.is_file():
+        subprocess.run(
+            [str(meshes.REPO_ROOT / meshes.TEAPOT_FETCH)], cwd=meshes.REPO_ROOT, check=True
+        )
+    return meshes.TEAPOT_PATH
 
 
 def _check_mesh(mesh: Mesh) -> None:
@@ -38,9 +40,9 @@ def _face_normal_agreement(mesh: Mesh) -> float:
     return float(np.mean(np.einsum("tk,tk->t", fn, vn) > 0))
 
 
-@pytest.mark.parametrize("name", scene.SCENE_NAMES)
+@pytest.mark.parametrize("name", meshes.SCENE_NAMES)
 def test_builtin_scenes_are_valid(name: str, teapot_file) -> None:
-    sc = scene.builtin_scene(name, width=64, height=48)
+    sc = meshes.builtin_scene(name, width=64, height=48)
     assert sc.camera.width == 64 and sc.camera.height == 48
     assert sc.name == name
     for obj in sc.objects:
@@ -52,7 +54,7 @@ def test_builtin_scenes_are_valid(name: str, teapot_file) -> None:
 
 
 def test_quad_scene_has_a_tight_highlight_exponent() -> None:
-    sc = scene.builtin_scene("quad")
+    sc = meshes.builtin_scene("quad")
     assert sc.objects[0].material.n >= 900
     lo, hi = sc.objects[0].mesh.bounds()
     assert (hi - lo)[:2].min() >= 3.0  # large
@@ -61,9 +63,9 @@ def test_quad_scene_has_a_tight_highlight_exponent() -> None:
 
 
 def test_sphere_and_torus_normals_are_exact() -> None:
-    s = scene.sphere_mesh(2.0, 2)
+    s = meshes.sphere_mesh(2.0, 2)
     np.testing.assert_allclose(s.normals, s.vertices / 2.0, atol=1e-12)
-    t = scene.torus_mesh(1.0, 0.4, 16, 8)
+    t = meshes.torus_mesh(1.0, 0.4, 16, 8)
     ring = t.vertices.copy()
     ring[:, 2] = 0
     ring = ring / np.linalg.norm(ring, axis=1, keepdims=True)  # the tube centre direction
@@ -74,13 +76,13 @@ def test_sphere_and_torus_normals_are_exact() -> None:
 
 
 def test_teapot_file_has_28_patches(teapot_file) -> None:
-    patches = scene.read_bezier_patches(teapot_file)
+    patches = meshes.read_bezier_patches(teapot_file)
     assert patches.shape == (28, 4, 4, 3)
 
 
 def test_teapot_tessellation(teapot_file) -> None:
     steps = 6
-    mesh = scene.teapot_mesh(steps)
+    mesh = meshes.teapot_mesh(steps)
     _check_mesh(mesh)
     full = 28 * 2 * steps * steps
     # only the triangles collapsing at the lid pole are dropped (4 patches x steps)
@@ -108,7 +110,7 @@ def test_degenerate_patch_pole_gets_a_finite_normal() -> None:
         for j in range(4):
             a = j / 3 * np.pi / 2
             ctrl[i, j] = [r * np.cos(a), r * np.sin(a), z]
-    mesh = scene.tessellate_patches(ctrl[None], steps=4)
+    mesh = meshes.tessellate_patches(ctrl[None], steps=4)
     _check_mesh(mesh)
     apex = np.argmax(mesh.vertices[:, 2])
     assert mesh.normals[apex][2] > 0.99
@@ -118,7 +120,7 @@ def test_flat_patch_normal() -> None:
     g = np.linspace(0, 1, 4)
     x, y = np.meshgrid(g, g, indexing="ij")
     ctrl = np.stack([x, y, np.zeros_like(x)], -1)
-    mesh = scene.tessellate_patches(ctrl[None], steps=3)
+    mesh = meshes.tessellate_patches(ctrl[None], steps=3)
     np.testing.assert_allclose(mesh.normals, np.tile([0, 0, 1.0], (mesh.n_vertices, 1)))
     assert mesh.n_triangles == 18
 
@@ -137,7 +139,7 @@ def test_mesh_file_round_trip_keeps_normals(tmp_path, ext: str) -> None:
     tm = _small_trimesh(with_normals=True)
     path = tmp_path / f"m.{ext}"
     tm.export(path, **({"include_normals": True} if ext == "obj" else {"vertex_normal": True}))
-    mesh = scene.load_mesh(path)
+    mesh = meshes.load_mesh(path)
     np.testing.assert_allclose(mesh.vertices, tm.vertices, atol=1e-6)
     np.testing.assert_array_equal(mesh.triangles, tm.faces)
     np.testing.assert_allclose(mesh.normals, tm.vertex_normals, atol=1e-6)
@@ -149,31 +151,31 @@ def test_mesh_file_without_normals_gets_trimesh_normals(tmp_path, ext: str) -> N
     tm = _small_trimesh(with_normals=False)
     path = tmp_path / f"m.{ext}"
     tm.export(path)
-    mesh = scene.load_mesh(path)
+    mesh = meshes.load_mesh(path)
     _check_mesh(mesh)
     assert np.all(mesh.normals[:, 2] > 0.9)  # the faces face +z
     # a scene around the loaded mesh renders
-    sc = scene.scene_from_mesh(mesh, width=16, height=16)
+    sc = meshes.scene_from_mesh(mesh, width=16, height=16)
     assert sc.objects[0].mesh is mesh
 
 
 def test_load_mesh_bad_input(tmp_path) -> None:
     with pytest.raises(ValueError, match="does not exist"):
-        scene.load_mesh(tmp_path / "missing.obj")
+        meshes.load_mesh(tmp_path / "missing.obj")
     with pytest.raises(ValueError, match=r"legal mesh files are \.obj and \.ply"):
-        scene.load_mesh(tmp_path / "m.stl")
+        meshes.load_mesh(tmp_path / "m.stl")
     with pytest.raises(ValueError, match="fetch-teapot"):
-        scene.read_bezier_patches(tmp_path / "none.bez")
+        meshes.read_bezier_patches(tmp_path / "none.bez")
     bad = tmp_path / "bad.bez"
     bad.write_text("BBP\n1 2 3\n")
     with pytest.raises(ValueError, match="multiple of 48"):
-        scene.read_bezier_patches(bad)
+        meshes.read_bezier_patches(bad)
 
 
 @pytest.mark.parametrize(
     ("make", "pattern"),
     [
-        (lambda: scene.builtin_scene("cube"), r"name = 'cube' is not legal: legal values are"),
+        (lambda: meshes.builtin_scene("cube"), r"name = 'cube' is not legal: legal values are"),
         (lambda: Material(n=0), r"n = 0 is out of range: legal range is 1\.\.1000"),
         (lambda: Material(n=1001), r"n = 1001 is out of range: legal range is 1\.\.1000"),
         (lambda: Material(n=2.5), r"n = 2\.5 must be an integer"),
@@ -181,7 +183,7 @@ def test_load_mesh_bad_input(tmp_path) -> None:
         (lambda: Material(colour=(1, 2, 0)), r"colour\[1\] = 2 is out of range"),
         (lambda: Camera(width=0), r"width = 0 is out of range: legal range is 1\.\.4096"),
         (lambda: Camera(height=100000), r"height = 100000 is out of range"),
-        (lambda: scene.builtin_scene("sphere", width=-5), r"width = -5 is out of range"),
+        (lambda: meshes.builtin_scene("sphere", width=-5), r"width = -5 is out of range"),
         (lambda: Camera(eye=(1, 1, 1), target=(1, 1, 1)), r"cannot be normalised"),
         (lambda: Camera(eye=(0, 0, 5), target=(0, 0, 0), up=(0, 0, 1)), r"parallel"),
         (lambda: Camera(fov_y=180), r"fov_y = 180 is out of range"),

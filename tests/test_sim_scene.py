@@ -5,7 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from model.render import raster, reference, scene
+from model.render import meshes, reference
+from model.render.shade import render
 from sim.scene_cosim import cosimulate
 
 pytestmark = pytest.mark.sim
@@ -23,7 +24,7 @@ def test_rtl_scene_equals_model_scene_byte_for_byte(request) -> None:
     # Every pixel went through the specular unit, every channel of every span through Gouraud.
     assert result.results["specular_unit"] == result.pixels
     # The scene has a visible highlight: the reference specular term passes a quarter of full scale.
-    ref = raster.render(scene.builtin_scene("sphere", 64, 64), reference.exact_blinn)
+    ref = render(meshes.builtin_scene("sphere", 64, 64), reference.exact_blinn)
     assert ref.specular is not None and ref.specular.max() > 64
     request.node.user_properties.append(
         (

@@ -21,7 +21,7 @@ CONFIGS = list(specular.ROM_CONFIGS.items())
 
 # ==================================================================== decoder
 def test_decoder_follows_the_patent_table() -> None:
-    # SEEDS.md section 1 / fig. 13: n = 1 -> cos, 2 -> cos^2, 3..6 -> cos^4, 7..1000 -> cos^16.
+    # The patent's fig. 13: n = 1 -> cos, 2 -> cos^2, 3..6 -> cos^4, 7..1000 -> cos^16.
     expected = {1: 1, 2: 2, 3: 4, 4: 4, 5: 4, 6: 4, 7: 16, 8: 16, 511: 16, 512: 16, 1000: 16}
     for n, k in expected.items():
         assert specular.decode_k(n) == k, n
@@ -51,8 +51,9 @@ def patent_mapping_errors(alpha: str = "taylor") -> np.ndarray:
 
 
 def test_patent_mapping_matches_the_published_figures() -> None:
-    # SEEDS.md: 1.09 % at n = 3 (the worst), 0.88 % at n = 6, 0.79 % at n = 7, 0.60 % at n = 8:
-    # the exact maxima to two digits; as bounds (rounded up, as the README prints them) below.
+    # The independent check: 1.09 % at n = 3 (the worst), 0.88 % at n = 6, 0.79 % at n = 7,
+    # 0.60 % at n = 8: the exact maxima to two digits; as bounds (rounded up, as
+    # docs/specular.md prints them) below.
     rel = patent_mapping_errors()
     err = 100 * rel
     assert int(np.argmax(err)) + 1 == 3 and int(np.argmax(err[7:])) + 8 == 8
@@ -69,7 +70,7 @@ def test_patent_mapping_matches_the_published_figures() -> None:
 
 @pytest.mark.parametrize(
     ("k", "inflection", "taylor", "bounds"),
-    [  # SEEDS.md's thesis table (to three digits), and the exact maxima rounded up
+    [  # The thesis's table (to three digits), and the exact maxima rounded up
         (2, 1.080, 4.704, ("1.0801", "4.7040")),
         (3, 0.711, 3.001, ("0.7108", "3.0006")),
         (16, 0.129, 0.520, ("0.1289", "0.5204")),
@@ -265,8 +266,8 @@ def test_rom12_path_error_in_the_epicentre_is_bounded(accuracies, name, cfg) -> 
 
 
 def test_default_accuracy_headlines(accuracies) -> None:
-    """What the README states for the default unit: worst cases over every angle register value
-    (tests/test_accuracy.py checks every figure), printed rounded up."""
+    """What docs/specular.md states for the default unit: worst cases over every angle
+    register value (tests/test_accuracy.py checks every figure), printed rounded up."""
     acc = accuracies["default"]
     assert format_up(acc.out_lsb_approx.max(), 4) == "0.6184"  # the unit's own error, C = 255
     assert format_up(acc.approx_c_full.value, 4) == "0.6258"  # ... any C <= 255
@@ -279,7 +280,7 @@ def test_default_accuracy_headlines(accuracies) -> None:
 
 
 def test_readme_tables_are_the_measured_ones(accuracies) -> None:
-    readme = (ROOT / "README.md").read_text()
+    readme = (ROOT / "docs" / "specular.md").read_text()
     assert specular.format_brdf_table() in readme
     assert specular.format_accuracy_table(DEFAULT, accuracies["default"]) in readme
     assert specular.format_config_table(accuracies) in readme

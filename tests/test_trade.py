@@ -204,7 +204,7 @@ def test_eps_dominance_defines_near():
 
 
 def test_default_is_on_the_all_figures_front_but_for_the_free_changes(tmp_path):
-    """What the README states: over every figure at once (accuracy, exhaustive worst cases and
+    """What docs/trade.md states: over every figure at once (accuracy, exhaustive worst cases and
     costs), the default is eps-dominated only by changes that cost nothing (inflection a,
     adaptive skipping, a smaller P on small scenes) and by 12-bit ROM-12 words (within 5 % on
     every figure, the unit's own error included); its address and angle widths, N and k-set are
@@ -235,7 +235,7 @@ def test_default_is_on_the_all_figures_front_but_for_the_free_changes(tmp_path):
     by_label = {r["label"]: r for r in rows}
     for label in pos["all figures"]:
         assert (
-            set(trade.DEFAULT_POINT.with_knobs(**trade._knobs(by_label[label])).changed_knobs())
+            set(trade.DEFAULT_POINT.with_knobs(**trade.row_knobs(by_label[label])).changed_knobs())
             <= free
         )
     assert "alpha=inflection" in pos["all figures"]
@@ -244,3 +244,133 @@ def test_default_is_on_the_all_figures_front_but_for_the_free_changes(tmp_path):
     vertex = by_label["specular_mode=vertex"]
     assert vertex["pareto_cycles"] and vertex["pareto_bits"]  # the cheapest: on both fronts
     assert vertex["nmse"] > 5 * by_label["default"]["nmse"]
+
+    # The plots: the thesis's threshold is a labelled line; the front and the default labelled,
+    # no two labels overlapping.
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.text import Annotation
+
+    for x in ("cycles", "table_bits"):
+        fig, ax = plt.subplots(figsize=(6, 4), dpi=100)
+        trade.plot_pareto(rows, x, ax=ax, legend=False)
+        texts = [t.get_text() for t in ax.texts if not isinstance(t, Annotation)]
+        assert texts == ["visually identical: NMSE ≤ 0.00025 (thesis)"]
+        labels = [t for t in ax.texts if isinstance(t, Annotation)]
+        front = {r["label"] for r in rows if r["pareto_cycles" if x == "cycles" else "pareto_bits"]}
+        assert {t.get_text() for t in labels} == front | {"default"}
+        _assert_apart(fig, labels)
+        plt.close(fig)
+
+
+def _assert_apart(fig, texts) -> None:
+    """No two of the texts overlap and each lies inside its axes (the text itself: an
+    annotation's extent would include its leader line)."""
+    from matplotlib.text import Text
+
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    boxes = [Text.get_window_extent(t, renderer) for t in texts]
+    for i, a in enumerate(boxes):
+        frame = texts[i].axes.get_window_extent(renderer)
+        assert frame.x0 <= a.x0 and a.x1 <= frame.x1 and frame.y0 <= a.y0 and a.y1 <= frame.y1
+        for b in boxes[i + 1 :]:
+            assert not a.overlaps(b), (texts[i].get_text(), a, b)
+
+
+def test_labels_of_crowded_points_do_not_collide():
+    """place_labels on a tight cluster (the fronts crowd near their knee): every label finds a
+    free spot, inside the axes."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    rng = np.random.default_rng(5)
+    xy = np.c_[3000 + 60 * rng.random(10), 5e-5 * (1 + 0.3 * rng.random(10))]
+    fig, ax = plt.subplots(figsize=(6.4, 4.4), dpi=100)
+    ax.scatter(xy[:, 0], xy[:, 1])
+    ax.set_yscale("log")
+    ax.set_xlim(2000, 6000)
+    ax.set_ylim(1e-5, 1e-3)
+    labels = trade.place_labels(ax, xy, [f"knob_{i}={2**i}" for i in range(10)])
+    assert len(labels) == 10
+    _assert_apart(fig, labels)
+    plt.close(fig)
+
+
+# ------------------------------------------------------------------------------ meshes
+def _write_mesh(path, subdivisions: int = 1, radius: float = 1.0):
+    import trimesh
+
+    trimesh.creation.icosphere(subdivisions=subdivisions, radius=radius).export(path)
+    return path
+
+
+def test_mesh_scene_key_follows_the_content(tmp_path):
+    mesh = _write_mesh(tmp_path / "ico.obj")
+    key = trade.mesh_key(mesh)
+    assert key == f"mesh:ico.obj@{hashlib.sha1(mesh.read_bytes()).hexdigest()[:12]}"
+    p = trade.TradePoint(scene=key, size=16)  # a legal scene, in the key like any other field
+    assert p.key != trade.TradePoint(scene="sphere", size=16).key
+    other = tmp_path / "other"
+    other.mkdir()
+    assert trade.mesh_key(_write_mesh(other / "ico.obj")) == key  # same name and content
+    assert trade.mesh_key(_write_mesh(other / "ico.obj", radius=2.0)) != key
+    sc = trade.point_scene(p, {key: mesh})
+    assert (sc.camera.width, sc.camera.height, sc.n_triangles) == (16, 16, 80)
+    with pytest.raises(ValueError, match=r"is now 'mesh:ico.obj@.*it changed"):
+        trade.point_scene(p, {key: other / "ico.obj"})
+    with pytest.raises(ValueError, match="no file was given"):
+        trade.point_scene(p)
+    with pytest.raises(ValueError, match=r"scene = 'mesh:ico.obj' is not legal.*mesh key"):
+        trade.TradePoint(scene="mesh:ico.obj")
+
+
+def _one_config(grid, scenes, size):
+    """grid_points of the default configuration only (a sweep of one config per scene)."""
+    return [trade.TradePoint(scene=s, size=size) for s in scenes]
+
+
+def test_trade_sweeps_a_mesh_like_a_builtin_scene(tmp_path, monkeypatch, capsys):
+    import csv
+
+    mesh = _write_mesh(tmp_path / "ico.obj", subdivisions=2)
+    key = trade.mesh_key(mesh)
+    monkeypatch.setattr(trade, "grid_points", _one_config)
+    out = tmp_path / "out"
+    run = {"size": 16, "out_dir": out, "workers": 0, "repeats": 1}
+    assert trade.main(["sphere"], meshes=[mesh], **run) == 0
+    assert f"1 configurations x 2 scenes (sphere, {key})" in capsys.readouterr().out
+    with open(out / "results.csv") as f:
+        rows = list(csv.DictReader(f))
+    assert [r["scene"] for r in rows] == ["sphere", key]
+    result = trade.load_cached(out / "cache", trade.TradePoint(scene=key, size=16))
+    assert result is not None and 0 <= result["nmse"] < 0.01 and result["pixels_shaded"] > 50
+    # The cache follows the content: a rerun evaluates nothing, an edited mesh is a new scene.
+    assert trade.main(["sphere"], meshes=[mesh], **run) == 0
+    assert "0 evaluated, 2 from the cache" in capsys.readouterr().out
+    _write_mesh(mesh, subdivisions=2, radius=1.5)
+    assert trade.main(["sphere"], meshes=[mesh], **run) == 0
+    assert "1 evaluated, 1 from the cache" in capsys.readouterr().out
+
+
+def test_unreadable_mesh_is_refused_before_any_work(tmp_path, monkeypatch):
+    def started(*args, **kwargs):
+        raise AssertionError("the work started")
+
+    monkeypatch.setattr(trade, "run_sweep", started)
+    garbage = tmp_path / "garbage.obj"
+    garbage.write_text("this is not a mesh\n")
+    folder = tmp_path / "folder.obj"
+    folder.mkdir()
+    cases = [tmp_path / "missing.obj", garbage, folder, _write_mesh(tmp_path / "m.stl")]
+    for bad in cases:
+        with pytest.raises(trade.SetupError) as err:
+            trade.main(["sphere"], size=16, out_dir=tmp_path / "out", meshes=[bad])
+        message = str(err.value)
+        assert message.startswith("argument --mesh: ") and str(bad) in message, message
+        assert "\n" not in message and err.value.status == 2
+    assert not (tmp_path / "out").exists()  # refused before the output folder was made

@@ -16,10 +16,12 @@ Per span of ``l`` intervals (``l + 1`` pixels), as the patent's external device 
    intensities of the (white) highlight.
 5. **Sum and saturate**: each channel is ``min(gouraud + specular, 255)``.
 
-Every pixel value comes out of the unit models; the float work is only the set-up (1, 4).  The
-same steps run on RTL outputs in the scene co-simulation (``sim/tb_scene.py``): the jobs each unit
-receives are ``UnitJobs`` and the image is assembled from the units' outputs by ``assemble``, so
-the model image and the RTL image differ only if a unit does.
+Every pixel value comes out of the unit models, through their batched public calls
+(``divider.divide_many``, ``gouraud.shade_lines``, ``specular.shade_lines``: each row equals the
+per-line call); the float work is only the set-up (1, 4).  The same steps run on RTL outputs in
+the scene co-simulation (``sim/scene_cosim.py``): the jobs each unit receives are ``UnitJobs``
+and the image is assembled from the units' outputs by ``assemble``, so the model image and the
+RTL image differ only if a unit does.
 
 Methods (``METHODS``): the hybrid with the patent's k-set and a = sqrt(n/k), the same with the
 thesis's inflection-matched a, the prototype's single cos^2 table, Gouraud only (the specular
@@ -32,11 +34,11 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit
 
-from model.render.raster import ShadeContext, ShadeResult, Spans
 from model.render.reference import object_highlight_flags
-from model.units import divider, fixed, gouraud, specular
+from model.render.shade import ShadeContext, ShadeResult
+from model.render.spans import Spans
+from model.units import divider, gouraud, specular
 
 SPECULAR_MODES = ("unit", "vertex", "adaptive")
 
@@ -148,144 +150,6 @@ class UnitJobs:
 
 
 # ------------------------------------------------------------------------------------------------
-# Batched unit kernels: the same njit steps as the per-line public calls, over a whole object
-
-
-@njit(cache=True)
-def _gouraud_spans_kernel(
-    i_start: np.ndarray,
-    di: np.ndarray,
-    intervals: np.ndarray,
-    offsets: np.ndarray,
-    p: int,
-    bias: int,
-    frac: int,
-    out_max: int,
-    shift_w: np.ndarray,
-    add_t: np.ndarray,
-    add_a: np.ndarray,
-    add_b: np.ndarray,
-    add_sub: np.ndarray,
-    out: np.ndarray,
-) -> None:
-    """gouraud.shade_line for every (span, channel), written into ``out`` (pixels, C)."""
-    max_seg = (intervals.max() + p) // p if intervals.size else 1
-    values_buf = np.empty((max_seg, p), dtype=np.int64)
-    lanes_buf = np.empty((max_seg, p), dtype=np.int64)
-    mult = np.empty(p + 1, dtype=np.int64)
-    for s in range(intervals.size):
-        length = intervals[s] + 1
-        nseg = (length + p - 1) // p
-        values = values_buf[:nseg]
-        lanes = lanes_buf[:nseg]
-        for c in range(i_start.shape[1]):
-            gouraud._segment_kernel(
-                i_start[s, c] + bias, di[s, c], shift_w, add_t, add_a, add_b, add_sub, values, mult
-            )
-            gouraud._convert_kernel(values, frac, out_max, lanes)
-            for x in range(length):
-                out[offsets[s] + x, c] = lanes[x // p, x % p]
-
-
-def run_divider(a: np.ndarray, k: np.ndarray, cfg: divider.DividerConfig) -> np.ndarray:
-    """divider.divide over arrays (validated once for the whole batch)."""
-    if a.size == 0:
-        return np.zeros(0, dtype=np.int64)
-    return np.asarray(divider.divide(a, k, cfg), dtype=np.int64).reshape(a.shape)
-
-
-def run_gouraud(
-    jobs: UnitJobs, di: np.ndarray, offsets: np.ndarray, cfg: gouraud.GouraudConfig
-) -> np.ndarray:
-    """(pixels, C) Gouraud outputs of every span and channel."""
-    lo, hi = cfg.di_range
-    if di.size and (di.min() < lo or di.max() > hi):
-        raise ValueError(f"di out of its format {cfg.di_format.describe()}")
-    out = np.zeros((int(offsets[-1]), jobs.i_start.shape[1]), dtype=np.int64)
-    net = gouraud._network_arrays(cfg.network)
-    _gouraud_spans_kernel(
-        jobs.i_start,
-        di,
-        jobs.intervals,
-        offsets,
-        cfg.p,
-        cfg.round_bias,
-        cfg.i_frac,
-        cfg.out_max,
-        *net,
-        out,
-    )
-    return out
-
-
-@njit(cache=True)
-def _specular_spans_kernel(
-    span_index: np.ndarray,
-    c: np.ndarray,
-    dz: np.ndarray,
-    z0: np.ndarray,
-    n: np.ndarray,
-    intervals: np.ndarray,
-    offsets: np.ndarray,
-    rom9: np.ndarray,
-    tsel: np.ndarray,
-    rom12: np.ndarray,
-    mag_max: int,
-    addr_shift: int,
-    addr_bits: int,
-    out_shift: int,
-    out_max: int,
-    out: np.ndarray,
-) -> None:
-    """specular.shade_line for every listed span, written into ``out`` (pixels,)."""
-    for j in range(span_index.size):
-        s = span_index[j]
-        length = intervals[s]
-        acc = np.empty(length + 1, dtype=np.int64)
-        specular._accumulate(dz[j], z0[j], length, acc)
-        line = out[offsets[s] : offsets[s] + length + 1]
-        specular._pixels(
-            acc,
-            c[j],
-            rom9[n[j]],
-            tsel[n[j]],
-            rom12,
-            mag_max,
-            addr_shift,
-            addr_bits,
-            out_shift,
-            out_max,
-            line,
-        )
-
-
-def run_specular(jobs: UnitJobs, offsets: np.ndarray, cfg: specular.SpecularConfig) -> np.ndarray:
-    """(pixels,) specular intensities; 0 on the spans that do not go through the unit."""
-    out = np.zeros(int(offsets[-1]), dtype=np.int64)
-    if jobs.spec_span.size == 0:
-        return out
-    fixed.check_operand("n", jobs.spec_n, 1, specular.N_MAX)
-    fixed.check_operand("c", jobs.spec_c, 0, cfg.c_format.hi)
-    fixed.check_operand("dz", jobs.spec_dz, cfg.z_format.lo, cfg.z_format.hi)
-    fixed.check_operand("z0", jobs.spec_z0, cfg.z_format.lo, cfg.z_format.hi)
-    t = specular._tables(cfg)
-    _specular_spans_kernel(
-        jobs.spec_span,
-        jobs.spec_c,
-        jobs.spec_dz,
-        jobs.spec_z0,
-        jobs.spec_n,
-        jobs.intervals,
-        offsets,
-        t.rom9,
-        t.tsel,
-        *t.pixel_args,
-        out,
-    )
-    return out
-
-
-# ------------------------------------------------------------------------------------------------
 # Building the jobs, assembling the image
 
 
@@ -371,10 +235,27 @@ def unit_counters(jobs: UnitJobs, cfg: PipelineConfig) -> dict[str, int]:
 
 
 def run_units(jobs: UnitJobs, offsets: np.ndarray, cfg: PipelineConfig):
-    """The model's outputs for the jobs: (gouraud (pixels, C), specular (pixels,))."""
+    """The model's outputs for the jobs: (gouraud (pixels, C), specular (pixels,)), span s at
+    rows ``offsets[s] : offsets[s + 1]``; 0 on the spans that do not go through the specular
+    unit.  Every value comes from the units' batched public calls."""
     a, k = jobs.divider_operands()
-    di = jobs.increments(run_divider(a, k, cfg.divider), cfg)
-    return run_gouraud(jobs, di, offsets, cfg.gouraud), run_specular(jobs, offsets, cfg.specular)
+    q, _ = divider.divide_many(a, k, cfg.divider)
+    di = jobs.increments(q, cfg)
+    starts = offsets[:-1]
+    g_out = np.zeros((int(offsets[-1]), jobs.i_start.shape[1]), dtype=np.int64)
+    gouraud.shade_lines(jobs.i_start, di, jobs.intervals + 1, cfg.gouraud, out=g_out, at=starts)
+    s_out = np.zeros(int(offsets[-1]), dtype=np.int64)
+    specular.shade_lines(
+        jobs.spec_c,
+        jobs.spec_dz,
+        jobs.spec_z0,
+        jobs.spec_n,
+        jobs.intervals[jobs.spec_span],
+        cfg.specular,
+        out=s_out,
+        at=starts[jobs.spec_span],
+    )
+    return g_out, s_out
 
 
 def unit_shader(cfg: PipelineConfig):

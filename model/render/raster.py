@@ -1,6 +1,10 @@
 """The float rasteriser: the "external device" of the patent that feeds the shading units.
 
-``render(scene, shader)`` = ``shade(rasterise(scene), shader)``:
+Owns projection, back-face culling, the edge walk with the top-left fill rule, the span
+set-up and the depth test: ``rasterise`` (a ``Raster`` of per-object ``ObjectRaster``),
+``screen_spans`` (the edge walk alone) and their numba kernels.  May import numpy, numba and
+``model.render`` ``scene``, ``vectors`` and ``spans``; shading the spans is
+``model.render.shade`` (``render(scene, shader)`` = ``shade(rasterise(scene), shader)``).
 
 1. **Projection.**  World -> camera (``Camera.basis``) -> screen.  Screen x grows to the right,
    y downwards; pixel (x, y) has its centre at (x + 0.5, y + 0.5).  Triangles with a vertex at
@@ -34,37 +38,21 @@
    units process whole spans, so a partly hidden span is shaded in full) and writes the pixels
    that won the depth test.
 
-Intensities are in 8-bit levels (0..255 floats), see ``model.scene`` for the lighting model.
-
-The shader interface: a ``Shader`` is any callable ``shader(spans, ctx)`` taking the ``Spans`` of
-one object (structure of arrays, one row per span) and a ``ShadeContext``, returning either a
-``(spans.n_pixels, 3)`` uint8 array (the pixels of span i are rows ``spans.offsets[i] :
-spans.offsets[i+1]``, left to right) or a ``ShadeResult`` (the same plus an optional float
-specular term per pixel and cost counters).  ``per_span(fn)`` turns a function of one ``Span``
-into such a shader.  A bit-exact unit shader looks like::
-
-    def hybrid(spans: Spans, ctx: ShadeContext) -> ShadeResult:
-        rgb = np.empty((spans.n_pixels, 3), dtype=np.uint8)
-        for i in range(len(spans)):
-            lo, hi = spans.offsets[i], spans.offsets[i + 1]
-            l = spans.x_end[i] - spans.x_start[i]         # intervals (pixels - 1)
-            # Gouraud: spans.g_start[i], spans.g_end[i] (RGB levels) -> divider -> gouraud unit
-            # specular: spans.n_start[i], spans.h_start[i], spans.n_end[i], spans.h_end[i], l,
-            #           ctx.material.n, C = 255 * ctx.material.k_s * ctx.lighting.intensity
-            rgb[lo:hi] = ...                               # summed and saturated, uint8
-        return ShadeResult(rgb, counters={"specular_cycles": ...})
+Intensities are in 8-bit levels (0..255 floats), see ``model.render.scene`` for the lighting
+model.
 """
 
 from __future__ import annotations
 
 import time
-from collections.abc import Callable
-from dataclasses import dataclass, field, fields
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
 
-from model.render.scene import Material, Scene, SceneObject
+from model.render.scene import Scene, SceneObject
+from model.render.spans import Spans
+from model.render.vectors import LightingParams, half, light_view, slerp3, vertex_lighting
 
 NEAR = 1e-3
 """Camera depth below which a vertex counts as behind the eye (its triangle is dropped)."""
@@ -74,329 +62,6 @@ an edge crossing is found to about |corner| * 2**-51 pixels (2**-11 here), and b
 pixel indices overflow (a 1e18-unit triangle drew 0 pixels).  A triangle beyond it is refused
 with a ``ValueError`` naming it (it is not clipped: clipping would split it into polygons and
 break the per-edge slerp of the span set-up)."""
-
-LIGHT_DIRECTIONAL, LIGHT_POINT = 0, 1
-
-
-# ------------------------------------------------------------------------------------------------
-# vector kernels (numba; also usable un-jitted)
-
-
-@njit(cache=True)
-def _norm3(x: float, y: float, z: float) -> tuple[float, float, float]:
-    length = np.sqrt(x * x + y * y + z * z)
-    if length < 1e-300:
-        return 0.0, 0.0, 0.0
-    return x / length, y / length, z / length
-
-
-@njit(cache=True)
-def _slerp3(
-    ax: float, ay: float, az: float, bx: float, by: float, bz: float, t: float
-) -> tuple[float, float, float]:
-    """Spherical interpolation of unit vectors a -> b at t in [0, 1] (constant angular speed).
-
-    t = 0 and t = 1 return a and b exactly.  Nearly identical vectors (angle < 1e-9) are lerped
-    and normalised.  Antipodal vectors (angle within 1e-9 of pi, the great circle undefined) turn
-    about a fixed axis: a x e, e the coordinate axis least aligned with a.
-    """
-    if t == 0.0:
-        return ax, ay, az
-    if t == 1.0:
-        return bx, by, bz
-    cx = ay * bz - az * by
-    cy = az * bx - ax * bz
-    cz = ax * by - ay * bx
-    sin_w = np.sqrt(cx * cx + cy * cy + cz * cz)
-    cos_w = ax * bx + ay * by + az * bz
-    w = np.arctan2(sin_w, cos_w)
-    if w < 1e-9:
-        return _norm3(ax + t * (bx - ax), ay + t * (by - ay), az + t * (bz - az))
-    if np.pi - w < 1e-9:
-        # Antipodal: rotate a by t*pi about an axis perpendicular to a.
-        aax, aay, aaz = abs(ax), abs(ay), abs(az)
-        if aax <= aay and aax <= aaz:
-            px, py, pz = 0.0, az, -ay  # a x (1,0,0)
-        elif aay <= aaz:
-            px, py, pz = -az, 0.0, ax  # a x (0,1,0)
-        else:
-            px, py, pz = ay, -ax, 0.0  # a x (0,0,1)
-        px, py, pz = _norm3(px, py, pz)
-        c = np.cos(np.pi * t)
-        s = np.sin(np.pi * t)
-        return _norm3(c * ax + s * px, c * ay + s * py, c * az + s * pz)
-    s = np.sin(w)
-    fa = np.sin((1.0 - t) * w) / s
-    fb = np.sin(t * w) / s
-    return _norm3(fa * ax + fb * bx, fa * ay + fb * by, fa * az + fb * bz)
-
-
-@njit(cache=True)
-def _slerp_rows(a: np.ndarray, b: np.ndarray, t: np.ndarray, out: np.ndarray) -> None:
-    for i in range(t.size):
-        out[i, 0], out[i, 1], out[i, 2] = _slerp3(
-            a[i, 0], a[i, 1], a[i, 2], b[i, 0], b[i, 1], b[i, 2], t[i]
-        )
-
-
-def slerp(a, b, t) -> np.ndarray:
-    """Spherical interpolation of unit 3-vectors, broadcasting ``a`` (..., 3), ``b`` (..., 3) and
-    ``t`` (...).  The same kernel the rasteriser and the reference shaders use."""
-    a = np.asarray(a, dtype=np.float64)
-    b = np.asarray(b, dtype=np.float64)
-    t = np.asarray(t, dtype=np.float64)
-    shape = np.broadcast_shapes(a.shape[:-1], b.shape[:-1], t.shape)
-    aa = np.ascontiguousarray(np.broadcast_to(a, (*shape, 3)).reshape(-1, 3))
-    bb = np.ascontiguousarray(np.broadcast_to(b, (*shape, 3)).reshape(-1, 3))
-    tt = np.ascontiguousarray(np.broadcast_to(t, shape).reshape(-1))
-    out = np.empty((tt.size, 3))
-    _slerp_rows(aa, bb, tt, out)
-    return out.reshape((*shape, 3))
-
-
-@njit(cache=True)
-def _light_view(
-    px: float,
-    py: float,
-    pz: float,
-    light_kind: int,
-    lvec: np.ndarray,
-    viewer_local: int,
-    vvec: np.ndarray,
-) -> tuple[float, float, float, float, float, float]:
-    """(L, V) at world point P.  ``lvec``: L (directional) or the light position (point);
-    ``vvec``: V (viewer at infinity) or the eye (local viewer)."""
-    if light_kind == LIGHT_DIRECTIONAL:
-        lx, ly, lz = lvec[0], lvec[1], lvec[2]
-    else:
-        lx, ly, lz = _norm3(lvec[0] - px, lvec[1] - py, lvec[2] - pz)
-    if viewer_local == 0:
-        vx, vy, vz = vvec[0], vvec[1], vvec[2]
-    else:
-        vx, vy, vz = _norm3(vvec[0] - px, vvec[1] - py, vvec[2] - pz)
-    return lx, ly, lz, vx, vy, vz
-
-
-@njit(cache=True)
-def _half(
-    lx: float, ly: float, lz: float, vx: float, vy: float, vz: float
-) -> tuple[float, float, float]:
-    """H = (L + V) / |L + V|; when L = -V (undefined) H = V."""
-    hx, hy, hz = _norm3(lx + vx, ly + vy, lz + vz)
-    if hx == 0.0 and hy == 0.0 and hz == 0.0:
-        return vx, vy, vz
-    return hx, hy, hz
-
-
-# ------------------------------------------------------------------------------------------------
-# lighting set-up shared by the rasteriser and the shaders
-
-
-@dataclass(frozen=True, eq=False)
-class LightingParams:
-    """The light and viewer as the kernels take them."""
-
-    light_kind: int  # LIGHT_DIRECTIONAL | LIGHT_POINT
-    lvec: np.ndarray  # L (directional) or light position (point)
-    viewer_local: int  # 0: viewer at infinity, 1: local viewer
-    vvec: np.ndarray  # V (infinite) or the eye position (local)
-    intensity: float  # I_l
-
-    @staticmethod
-    def of(scene: Scene) -> LightingParams:
-        light = scene.light
-        cam = scene.camera
-        if light.kind == "directional":
-            kind, lvec = LIGHT_DIRECTIONAL, np.array(light.direction)
-        else:
-            kind, lvec = LIGHT_POINT, np.array(light.position)
-        if scene.viewer == "infinite":
-            local = 0
-            v = np.subtract(cam.eye, cam.target)
-            vvec = v / np.linalg.norm(v)
-        else:
-            local, vvec = 1, np.array(cam.eye, dtype=np.float64)
-        return LightingParams(kind, lvec.astype(np.float64), local, vvec, float(light.intensity))
-
-    @property
-    def constant_half_vector(self) -> bool:
-        """True when H is the same everywhere (directional light, viewer at infinity)."""
-        return self.light_kind == LIGHT_DIRECTIONAL and self.viewer_local == 0
-
-
-@njit(cache=True)
-def _vectors_kernel(p: np.ndarray, kind: int, lvec, local: int, vvec, out: np.ndarray) -> None:
-    for i in range(p.shape[0]):
-        lx, ly, lz, vx, vy, vz = _light_view(p[i, 0], p[i, 1], p[i, 2], kind, lvec, local, vvec)
-        hx, hy, hz = _half(lx, ly, lz, vx, vy, vz)
-        out[i, 0], out[i, 1], out[i, 2] = lx, ly, lz
-        out[i, 3], out[i, 4], out[i, 5] = vx, vy, vz
-        out[i, 6], out[i, 7], out[i, 8] = hx, hy, hz
-
-
-def lighting_vectors(
-    points: np.ndarray, params: LightingParams
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """(L, V, H) unit vectors at world points (..., 3)."""
-    pts = np.asarray(points, dtype=np.float64)
-    flat = np.ascontiguousarray(pts.reshape(-1, 3))
-    out = np.empty((flat.shape[0], 9))
-    _vectors_kernel(flat, params.light_kind, params.lvec, params.viewer_local, params.vvec, out)
-    out = out.reshape((*pts.shape[:-1], 9))
-    return out[..., 0:3], out[..., 3:6], out[..., 6:9]
-
-
-def vertex_lighting(
-    normals: np.ndarray, points: np.ndarray, material: Material, params: LightingParams
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Per vertex: the Gouraud ambient + diffuse colour (..., 3) in 8-bit levels, the specular
-    term (...) in levels, and H (..., 3)."""
-    lv, _, hv = lighting_vectors(points, params)
-    ndl = np.maximum(0.0, np.einsum("...k,...k->...", normals, lv))
-    ndh = np.maximum(0.0, np.einsum("...k,...k->...", normals, hv))
-    col = np.asarray(material.colour)
-    gour = 255.0 * col * (material.ambient + material.k_d * params.intensity * ndl)[..., None]
-    spec = 255.0 * material.k_s * params.intensity * ndh**material.n
-    return gour, spec, hv
-
-
-# ------------------------------------------------------------------------------------------------
-# spans
-
-
-@dataclass(frozen=True, eq=False)
-class Span:
-    """One span (scan-line segment of one triangle), as the hardware set-up sees it.
-
-    Pixels ``x_start..x_end`` (inclusive) of row ``y``; ``length`` = x_end - x_start + 1 pixels,
-    ``intervals`` = length - 1 (the patent's l).  ``*_start`` / ``*_end`` are the values at the
-    first and the last pixel centre.  Intensities in 8-bit levels.
-    """
-
-    y: int
-    x_start: int
-    x_end: int
-    obj: int  # object index in the scene
-    tri: int  # triangle index in the object's mesh
-    n_start: np.ndarray  # (3,) unit normal, spherically interpolated
-    n_end: np.ndarray
-    h_start: np.ndarray  # (3,) unit half-vector at the span end's world position
-    h_end: np.ndarray
-    nlin_start: np.ndarray  # (3,) linearly interpolated normal, not normalised (classic Phong)
-    nlin_end: np.ndarray
-    p_start: np.ndarray  # (3,) world position
-    p_end: np.ndarray
-    g_start: np.ndarray  # (3,) Gouraud ambient + diffuse RGB in levels (vertex-lit, linear)
-    g_end: np.ndarray
-    s_start: float  # specular lit at the vertices, linearly interpolated, in levels
-    s_end: float
-    z_start: float  # camera-space depth
-    z_end: float
-
-    @property
-    def length(self) -> int:
-        return self.x_end - self.x_start + 1
-
-    @property
-    def intervals(self) -> int:
-        return self.x_end - self.x_start
-
-
-_SPAN_ARRAYS = (
-    "y",
-    "x_start",
-    "x_end",
-    "tri",
-    "n_start",
-    "n_end",
-    "h_start",
-    "h_end",
-    "nlin_start",
-    "nlin_end",
-    "p_start",
-    "p_end",
-    "g_start",
-    "g_end",
-    "s_start",
-    "s_end",
-    "z_start",
-    "z_end",
-)
-
-
-@dataclass(frozen=True, eq=False)
-class Spans:
-    """The spans of one object, structure of arrays (one row per span, S rows).
-
-    Integer arrays (S,): ``y``, ``x_start``, ``x_end``, ``tri``.  Float arrays: ``n_*``,
-    ``h_*``, ``nlin_*``, ``p_*``, ``g_*`` (S, 3); ``s_*``, ``z_*`` (S,).  Field meanings as in
-    ``Span``.  ``offsets`` (S+1,) locate each span's pixels in a flat per-pixel array.
-    """
-
-    obj: int
-    y: np.ndarray
-    x_start: np.ndarray
-    x_end: np.ndarray
-    tri: np.ndarray
-    n_start: np.ndarray
-    n_end: np.ndarray
-    h_start: np.ndarray
-    h_end: np.ndarray
-    nlin_start: np.ndarray
-    nlin_end: np.ndarray
-    p_start: np.ndarray
-    p_end: np.ndarray
-    g_start: np.ndarray
-    g_end: np.ndarray
-    s_start: np.ndarray
-    s_end: np.ndarray
-    z_start: np.ndarray
-    z_end: np.ndarray
-    offsets: np.ndarray = field(init=False)
-
-    def __post_init__(self) -> None:
-        off = np.zeros(self.y.size + 1, dtype=np.int64)
-        np.cumsum(self.x_end - self.x_start + 1, out=off[1:])
-        object.__setattr__(self, "offsets", off)
-
-    def __len__(self) -> int:
-        return int(self.y.size)
-
-    @property
-    def lengths(self) -> np.ndarray:
-        """Pixels per span."""
-        return self.x_end - self.x_start + 1
-
-    @property
-    def n_pixels(self) -> int:
-        return int(self.offsets[-1])
-
-    def span(self, i: int) -> Span:
-        kw = {name: getattr(self, name)[i] for name in _SPAN_ARRAYS}
-        for name in ("y", "x_start", "x_end", "tri"):
-            kw[name] = int(kw[name])
-        for name in ("s_start", "s_end", "z_start", "z_end"):
-            kw[name] = float(kw[name])
-        return Span(obj=self.obj, **kw)
-
-    def select(self, mask_or_index: np.ndarray) -> Spans:
-        """The subset of spans picked by a boolean mask or index array (order kept)."""
-        kw = {name: getattr(self, name)[mask_or_index] for name in _SPAN_ARRAYS}
-        return Spans(obj=self.obj, **kw)
-
-    def pixel_xy(self) -> tuple[np.ndarray, np.ndarray]:
-        """Column and row of every pixel, flat (n_pixels,), in span order, left to right."""
-        lengths = self.lengths
-        ys = np.repeat(self.y, lengths)
-        xs = np.repeat(self.x_start - self.offsets[:-1], lengths) + np.arange(self.n_pixels)
-        return xs, ys
-
-    def pixel_t(self) -> np.ndarray:
-        """The per-pixel span parameter t = (x - x_start) / (x_end - x_start), 0 for 1-pixel
-        spans, flat (n_pixels,)."""
-        lengths = self.lengths
-        k = np.arange(self.n_pixels) - np.repeat(self.offsets[:-1], lengths)
-        return k / np.repeat(np.maximum(lengths - 1, 1), lengths).astype(np.float64)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -513,21 +178,21 @@ def _span_end_kernel(
         la, lb, ra, rb = geo_i[s, 4], geo_i[s, 5], geo_i[s, 6], geo_i[s, 7]
         sl, sr = geo_f[s, 0], geo_f[s, 1]
         # normals at the two edge crossings (slerp along the edges)
-        lx, ly, lz = _slerp3(
+        lx, ly, lz = slerp3(
             cn[t, la, 0], cn[t, la, 1], cn[t, la, 2], cn[t, lb, 0], cn[t, lb, 1], cn[t, lb, 2], sl
         )
-        rx, ry, rz = _slerp3(
+        rx, ry, rz = slerp3(
             cn[t, ra, 0], cn[t, ra, 1], cn[t, ra, 2], cn[t, rb, 0], cn[t, rb, 1], cn[t, rb, 2], sr
         )
         for e in range(2):
             u = geo_f[s, 2 + e]
-            nx, ny, nz = _slerp3(lx, ly, lz, rx, ry, rz, u)
+            nx, ny, nz = slerp3(lx, ly, lz, rx, ry, rz, u)
             out_n[s, e, 0], out_n[s, e, 1], out_n[s, e, 2] = nx, ny, nz
             for k in range(k_lin):
                 left = lin[t, la, k] + sl * (lin[t, lb, k] - lin[t, la, k])
                 right = lin[t, ra, k] + sr * (lin[t, rb, k] - lin[t, ra, k])
                 out_lin[s, e, k] = left + u * (right - left)
-            lx_, ly_, lz_, vx, vy, vz = _light_view(
+            lx_, ly_, lz_, vx, vy, vz = light_view(
                 out_lin[s, e, 0],
                 out_lin[s, e, 1],
                 out_lin[s, e, 2],
@@ -536,7 +201,7 @@ def _span_end_kernel(
                 viewer_local,
                 vvec,
             )
-            hx, hy, hz = _half(lx_, ly_, lz_, vx, vy, vz)
+            hx, hy, hz = half(lx_, ly_, lz_, vx, vy, vz)
             out_h[s, e, 0], out_h[s, e, 1], out_h[s, e, 2] = hx, hy, hz
 
 
@@ -753,213 +418,3 @@ def rasterise(scene: Scene, *, cull_backfaces: bool = True) -> Raster:
     with np.errstate(divide="ignore"):
         depth = np.where(winner >= 0, 1.0 / np.maximum(zbuf, 1e-300), np.inf)
     return Raster(scene, tuple(objects), winner, depth, cull_backfaces, time.perf_counter() - t0)
-
-
-# ------------------------------------------------------------------------------------------------
-# shading
-
-
-@dataclass(frozen=True, eq=False)
-class ShadeContext:
-    """What a shader gets besides the spans: the scene, which object, its material, the lighting
-    parameters, and whether a progress bar is wanted."""
-
-    scene: Scene
-    obj: int
-    material: Material
-    lighting: LightingParams
-    progress: bool = False
-
-
-@dataclass(frozen=True, eq=False)
-class ShadeResult:
-    """A shader's output for the spans of one object.
-
-    ``rgb`` (n_pixels, 3) uint8 final pixel values; ``specular`` (n_pixels,) float, optional: the
-    specular term in levels (the reference shaders fill it; it defines the highlight mask);
-    ``counters``: cost counters (e.g. unit cycles), summed over objects into ``RenderStats``.
-    """
-
-    rgb: np.ndarray
-    specular: np.ndarray | None = None
-    counters: dict[str, float] = field(default_factory=dict)
-
-
-Shader = Callable[[Spans, ShadeContext], "np.ndarray | ShadeResult"]
-
-
-def per_span(
-    fn: Callable[[Span, ShadeContext], np.ndarray | ShadeResult], desc: str = "spans"
-) -> Shader:
-    """A ``Shader`` from a function of one ``Span`` returning its ``(length, 3)`` uint8 pixels
-    (or a ``ShadeResult`` for those pixels).  Shows a tqdm progress bar when ``ctx.progress``."""
-
-    def shader(spans: Spans, ctx: ShadeContext) -> ShadeResult:
-        from tqdm import tqdm
-
-        rgb = np.empty((spans.n_pixels, 3), dtype=np.uint8)
-        spec = None
-        counters: dict[str, float] = {}
-        it = range(len(spans))
-        if ctx.progress:
-            it = tqdm(it, desc=desc, unit="span", leave=False, mininterval=0.5)
-        for i in it:
-            lo, hi = spans.offsets[i], spans.offsets[i + 1]
-            res = _as_result(fn(spans.span(i), ctx), int(hi - lo))
-            rgb[lo:hi] = res.rgb
-            if res.specular is not None:
-                if spec is None:
-                    spec = np.zeros(spans.n_pixels)
-                spec[lo:hi] = res.specular
-            for k, v in res.counters.items():
-                counters[k] = counters.get(k, 0) + v
-        return ShadeResult(rgb, spec, counters)
-
-    shader.__name__ = getattr(fn, "__name__", "per_span_shader")
-    return shader
-
-
-def _as_result(out, n_pixels: int) -> ShadeResult:
-    res = out if isinstance(out, ShadeResult) else ShadeResult(np.asarray(out))
-    rgb = np.asarray(res.rgb)
-    if rgb.shape != (n_pixels, 3):
-        raise ValueError(
-            f"shader output shape = {rgb.shape} is not legal: legal shape is ({n_pixels}, 3)"
-        )
-    if rgb.dtype != np.uint8:
-        raise ValueError(f"shader output dtype = {rgb.dtype} is not legal: legal dtype is uint8")
-    if res.specular is not None and np.shape(res.specular) != (n_pixels,):
-        raise ValueError(
-            f"shader specular shape = {np.shape(res.specular)} is not legal: legal is ({n_pixels},)"
-        )
-    return ShadeResult(rgb, res.specular, dict(res.counters))
-
-
-@dataclass(frozen=True)
-class RenderStats:
-    """What the frame needed.  ``pixels_shaded`` counts every pixel of every span sent through
-    the shader (hidden pixels of partly visible spans included); ``pixels_covered`` the pixels
-    in the final image.  ``longest_span`` is over the shaded spans, ``n_values`` the exponents of
-    the objects that had a shaded span."""
-
-    triangles: int
-    triangles_culled: int
-    triangles_clipped: int
-    triangles_shaded: int  # triangles with at least one shaded span
-    spans: int  # all spans, hidden ones included
-    spans_shaded: int
-    pixels_shaded: int
-    pixels_covered: int
-    longest_span: int
-    n_values: tuple[int, ...]
-    counters: dict[str, float]
-    raster_seconds: float
-    shade_seconds: float
-
-    @property
-    def pixels_per_second(self) -> float:
-        """Shaded pixels per second of shading (the rasterisation excluded)."""
-        return self.pixels_shaded / self.shade_seconds if self.shade_seconds > 0 else float("inf")
-
-    @property
-    def total_pixels_per_second(self) -> float:
-        total = self.raster_seconds + self.shade_seconds
-        return self.pixels_shaded / total if total > 0 else float("inf")
-
-    def as_dict(self) -> dict:
-        return {f.name: getattr(self, f.name) for f in fields(self)}
-
-
-@dataclass(frozen=True, eq=False)
-class Frame:
-    """A rendered image.  ``rgb`` (H, W, 3) uint8; ``obj_id`` / ``tri_id`` (H, W) int64: the
-    object and the triangle (index in its mesh) seen at each pixel, -1 for background;
-    ``specular`` (H, W) float levels when the shader provided them (else None)."""
-
-    rgb: np.ndarray
-    obj_id: np.ndarray
-    tri_id: np.ndarray
-    specular: np.ndarray | None
-    stats: RenderStats
-
-    @property
-    def coverage(self) -> np.ndarray:
-        """(H, W) bool: pixels covered by some triangle."""
-        return self.obj_id >= 0
-
-
-def shade(
-    raster: Raster, shader: Shader, *, skip_hidden_spans: bool = True, progress: bool = False
-) -> Frame:
-    """Run ``shader`` over the spans of every object and assemble the frame (depth-tested)."""
-    t0 = time.perf_counter()
-    scene = raster.scene
-    cam = scene.camera
-    params = LightingParams.of(scene)
-    rgb = np.empty((cam.height, cam.width, 3), dtype=np.uint8)
-    rgb[:] = np.asarray(scene.background, dtype=np.uint8)
-    obj_id = np.full((cam.height, cam.width), -1, dtype=np.int64)
-    tri_id = np.full((cam.height, cam.width), -1, dtype=np.int64)
-    specular = None
-    counters: dict[str, float] = {}
-    spans_shaded = pixels_shaded = longest = 0
-    triangles_shaded = 0
-    n_values: set[int] = set()
-    for orast in raster.objects:
-        sp = orast.spans
-        if skip_hidden_spans:
-            pick = orast.visible_per_span > 0
-            sub = sp.select(pick)
-            vis = orast.visible[np.repeat(pick, sp.lengths)]
-        else:
-            sub, vis = sp, orast.visible
-        if len(sub) == 0:
-            continue
-        material = scene.objects[sp.obj].material
-        ctx = ShadeContext(scene, sp.obj, material, params, progress)
-        res = _as_result(shader(sub, ctx), sub.n_pixels)
-        xs, ys = sub.pixel_xy()
-        xs, ys = xs[vis], ys[vis]
-        rgb[ys, xs] = res.rgb[vis]
-        obj_id[ys, xs] = sp.obj
-        tri_id[ys, xs] = np.repeat(sub.tri, sub.lengths)[vis]
-        if res.specular is not None:
-            if specular is None:
-                specular = np.zeros((cam.height, cam.width))
-            specular[ys, xs] = np.asarray(res.specular, dtype=np.float64)[vis]
-        for k, v in res.counters.items():
-            counters[k] = counters.get(k, 0) + v
-        spans_shaded += len(sub)
-        pixels_shaded += sub.n_pixels
-        longest = max(longest, int(sub.lengths.max()))
-        triangles_shaded += int(np.unique(sub.tri).size)
-        n_values.add(material.n)
-    stats = RenderStats(
-        triangles=sum(o.triangles for o in raster.objects),
-        triangles_culled=sum(o.triangles_culled for o in raster.objects),
-        triangles_clipped=sum(o.triangles_clipped for o in raster.objects),
-        triangles_shaded=triangles_shaded,
-        spans=sum(len(o.spans) for o in raster.objects),
-        spans_shaded=spans_shaded,
-        pixels_shaded=pixels_shaded,
-        pixels_covered=int((obj_id >= 0).sum()),
-        longest_span=longest,
-        n_values=tuple(sorted(n_values)),
-        counters=counters,
-        raster_seconds=raster.seconds,
-        shade_seconds=time.perf_counter() - t0,
-    )
-    return Frame(rgb, obj_id, tri_id, specular, stats)
-
-
-def render(
-    scene: Scene,
-    shader: Shader,
-    *,
-    cull_backfaces: bool = True,
-    skip_hidden_spans: bool = True,
-    progress: bool = False,
-) -> Frame:
-    """Rasterise ``scene`` and shade it with ``shader``: ``shade(rasterise(scene), shader)``."""
-    raster = rasterise(scene, cull_backfaces=cull_backfaces)
-    return shade(raster, shader, skip_hidden_spans=skip_hidden_spans, progress=progress)

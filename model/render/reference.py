@@ -1,6 +1,12 @@
 """Float span shaders (the accuracy references) and the thesis's per-triangle highlight test.
 
-Shaders (``model.raster.Shader``: ``shader(spans, ctx) -> ShadeResult``), all in float64:
+Owns the float shaders (``exact_blinn``, ``phong``, ``gouraud_float``, ``SHADERS``,
+``float_levels``, ``quantise``) and the highlight test (``highlight_threshold``,
+``max_dot_over_spherical_triangle``, ``triangle_may_show_highlight``,
+``object_highlight_flags``).  May import numpy, numba and ``model.render`` ``scene``,
+``vectors``, ``spans`` and ``shade``.
+
+Shaders (``model.render.shade.Shader``: ``shader(spans, ctx) -> ShadeResult``), all in float64:
 
 * ``exact_blinn`` -- method (a), the accuracy reference: per pixel the normal and the half-vector
   are interpolated *spherically* between the span ends (slerp with t = (x - x_start) /
@@ -25,18 +31,17 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from model.render.raster import (
-    LightingParams,
-    ShadeContext,
-    ShadeResult,
-    Spans,
-    _half,
-    _light_view,
-    _norm3,
-    _slerp3,
-    lighting_vectors,
-)
 from model.render.scene import Scene, check_int, check_range
+from model.render.shade import ShadeContext, ShadeResult
+from model.render.spans import Spans
+from model.render.vectors import (
+    LightingParams,
+    half,
+    light_view,
+    lighting_vectors,
+    norm3,
+    slerp3,
+)
 
 METHOD_EXACT, METHOD_PHONG, METHOD_GOURAUD = 0, 1, 2
 _METHODS = {"exact_blinn": METHOD_EXACT, "phong": METHOD_PHONG, "gouraud_float": METHOD_GOURAUD}
@@ -93,17 +98,17 @@ def _shade_kernel(
             px = p0[s, 0] + t * (p1[s, 0] - p0[s, 0])
             py = p0[s, 1] + t * (p1[s, 1] - p0[s, 1])
             pz = p0[s, 2] + t * (p1[s, 2] - p0[s, 2])
-            lx, ly, lz, vx, vy, vz = _light_view(px, py, pz, light_kind, lvec, viewer_local, vvec)
+            lx, ly, lz, vx, vy, vz = light_view(px, py, pz, light_kind, lvec, viewer_local, vvec)
             if method == METHOD_EXACT:
-                nx, ny, nz = _slerp3(n0[s, 0], n0[s, 1], n0[s, 2], n1[s, 0], n1[s, 1], n1[s, 2], t)
-                hx, hy, hz = _slerp3(h0[s, 0], h0[s, 1], h0[s, 2], h1[s, 0], h1[s, 1], h1[s, 2], t)
+                nx, ny, nz = slerp3(n0[s, 0], n0[s, 1], n0[s, 2], n1[s, 0], n1[s, 1], n1[s, 2], t)
+                hx, hy, hz = slerp3(h0[s, 0], h0[s, 1], h0[s, 2], h1[s, 0], h1[s, 1], h1[s, 2], t)
             else:
-                nx, ny, nz = _norm3(
+                nx, ny, nz = norm3(
                     nl0[s, 0] + t * (nl1[s, 0] - nl0[s, 0]),
                     nl0[s, 1] + t * (nl1[s, 1] - nl0[s, 1]),
                     nl0[s, 2] + t * (nl1[s, 2] - nl0[s, 2]),
                 )
-                hx, hy, hz = _half(lx, ly, lz, vx, vy, vz)
+                hx, hy, hz = half(lx, ly, lz, vx, vy, vz)
             ndl = max(0.0, nx * lx + ny * ly + nz * lz)
             ndh = max(0.0, nx * hx + ny * hy + nz * hz)
             spec = c_spec * ndh**n_exp
@@ -178,7 +183,7 @@ SHADERS = {"exact_blinn": exact_blinn, "phong": phong, "gouraud_float": gouraud_
 
 
 # ------------------------------------------------------------------------------------------------
-# the highlight test (structure-adaptive shading, thesis section; SEEDS.md section 4)
+# the highlight test (structure-adaptive shading, the thesis; docs/scenes.md)
 
 
 def highlight_threshold(k_s: float, intensity: float, levels: float = 0.5) -> float:

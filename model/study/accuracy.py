@@ -1,7 +1,7 @@
-"""Every accuracy figure the README states, each a worst case (``python -m model accuracy``).
+"""Every accuracy figure the unit pages state, each a worst case (``python -m model accuracy``).
 
 ``figures()`` computes them (the heavy work is in the units' accuracy sections: exhaustive
-walks in numba), ``format_figures`` prints the table the README carries: figure, value, the
+walks in numba), ``format_figures`` prints the table the unit pages carry: figure, value, the
 conditions under which it holds and why the value is the worst case.  Values are rounded *up*
 to the printed digits (``format_up``), so a printed bound is never below what was measured.
 
@@ -48,7 +48,7 @@ class Figures:
 
 
 def figures() -> Figures:
-    """Compute every accuracy figure of the README (default configurations unless named)."""
+    """Compute every accuracy figure of docs/<unit>.md (default configurations unless named)."""
     import numpy as np
 
     from model.units import divider, gouraud, specular
@@ -380,7 +380,7 @@ def figures() -> Figures:
 
 
 def format_figures(figs: Figures) -> str:
-    """The table ``python -m model accuracy`` prints and the README carries (markdown)."""
+    """The table ``python -m model accuracy`` prints and the unit pages carry (markdown)."""
     lines = [
         "| unit | figure | worst case | holds for | why it is the worst case |",
         "|---|---|---|---|---|",

@@ -1,12 +1,28 @@
 """Image output: PNG files (Pillow), error heat-maps and a labelled side-by-side sheet
-(matplotlib, Agg backend: no display needed)."""
+(matplotlib, Agg backend: no display needed), and the digest of what a picture plots.
+
+Every error heat-map has its own scale (0 to its own largest error, at least 1 level) and its own
+colour bar in 8-bit levels; ``log=True`` draws it on a symmetric-log scale (linear from 0 to 1
+level, then decades), so that the many pixels off by a level or two show next to the few large
+ones.  ``sheet_data`` is everything a sheet plots (the images, the error maps, their scales, the
+titles, the error distribution), ``data_digest`` a hash of it that does not depend on the
+matplotlib or PNG library versions: ``tests/test_pictures.py`` compares it with the one
+``make pictures`` recorded.
+"""
 
 from __future__ import annotations
 
+import hashlib
+import re
+import textwrap
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
+
+ERROR_CMAP = "inferno"
+ERROR_UNIT = "|error| (8-bit levels)"
+_LOG_TICKS = (0, 1, 2, 5, 10, 20, 50, 100, 200)
 
 
 def _rgb(image) -> np.ndarray:
@@ -46,6 +62,35 @@ def error_map(image, reference) -> np.ndarray:
     return np.abs(a - b).max(axis=2).astype(np.float64)
 
 
+def error_top(err: np.ndarray, vmax: float | None = None) -> float:
+    """The top of an error map's own scale: ``vmax`` if given, else its largest error (>= 1)."""
+    return float(vmax) if vmax is not None else max(1.0, float(np.max(err)))
+
+
+def error_norm(top: float, log: bool = False):
+    """0..``top`` levels: linear, or symmetric-log (linear up to 1 level, then decades)."""
+    from matplotlib import colors
+
+    if log:
+        return colors.SymLogNorm(linthresh=1.0, linscale=1.0, vmin=0.0, vmax=top, base=10)
+    return colors.Normalize(vmin=0.0, vmax=top)
+
+
+def _style_colorbar(bar, top: float, log: bool, fontsize: float) -> None:
+    from matplotlib import ticker
+
+    if log:
+        ticks = [t for t in _LOG_TICKS if t <= top]
+        if top >= 1.5 * ticks[-1]:
+            ticks.append(top)
+        bar.set_ticks(ticks)
+        bar.ax.yaxis.set_minor_locator(ticker.NullLocator())
+    else:
+        bar.ax.yaxis.set_major_locator(ticker.MaxNLocator(nbins=5, integer=True))
+    bar.ax.yaxis.set_major_formatter(ticker.FormatStrFormatter("%d"))
+    bar.ax.tick_params(labelsize=fontsize, length=2, pad=1)
+
+
 def _pyplot():
     import matplotlib
 
@@ -55,91 +100,335 @@ def _pyplot():
     return plt
 
 
+def save_error_heatmaps(
+    items: Sequence[tuple[str | Path, np.ndarray, str]],
+    reference,
+    log: bool = False,
+    vmax: float | None = None,
+    cmap: str = ERROR_CMAP,
+    reference_label: str = "the reference",
+) -> list[Path]:
+    """One heat-map PNG per ``(path, image, title)`` of ``error_map(image, reference)``,
+    titled ``title`` and "error against ``reference_label``: max N levels", each on its own scale
+    (``error_top``; ``vmax`` fixes it for all) with its own colour bar in 8-bit levels, linear
+    or (``log``) symmetric-log.  One figure is drawn and reused: the same size and layout for
+    every map (a 256 x 256 map at one pixel per pixel), and quick."""
+    plt = _pyplot()
+    ref = _rgb(reference)
+    h, w = ref.shape[:2]
+    pw, ph = 2.56 * w / max(h, w), 2.56 * h / max(h, w)  # inches at dpi 100
+    lines = max((wrap_title(t, 44).count("\n") + 2 if t else 1) for _, _, t in items)
+    left, gap, bar_w, bar_txt, bottom = 0.1, 0.08, 0.12, 0.62, 0.08
+    top_txt = 0.12 + 0.16 * lines  # the title band: 9-point lines
+    fw, fh = left + pw + gap + bar_w + bar_txt, bottom + ph + top_txt
+    fig = plt.figure(figsize=(fw, fh), dpi=100)
+    ax = fig.add_axes((left / fw, bottom / fh, pw / fw, ph / fh))
+    ax.set_axis_off()
+    cax = fig.add_axes(((left + pw + gap) / fw, bottom / fh, bar_w / fw, ph / fh))
+    heading = fig.text(0.5, 1 - 0.06 / fh, "", ha="center", va="top", fontsize=9)
+    written = []
+    try:
+        im = bar = None
+        for path, image, title in items:
+            err = error_map(image, ref)
+            top = error_top(err, vmax)
+            norm = error_norm(top, log)
+            if im is None:
+                im = ax.imshow(err, cmap=cmap, norm=norm, interpolation="nearest")
+                bar = fig.colorbar(im, cax=cax)
+                bar.set_label(ERROR_UNIT + (", log scale" if log else ""), fontsize=8)
+            else:
+                im.set_data(err)
+                im.set_norm(norm)
+            _style_colorbar(bar, top, log, 7)
+            line = f"error against {reference_label}: max {int(err.max())} levels"
+            heading.set_text((wrap_title(title, 44) + "\n" if title else "") + line)
+            p = Path(path)
+            p.parent.mkdir(parents=True, exist_ok=True)
+            fig.savefig(p)
+            written.append(p)
+    finally:
+        plt.close(fig)
+    return written
+
+
 def save_error_heatmap(
     path: str | Path,
     image,
     reference,
     title: str = "",
     vmax: float | None = None,
-    cmap: str = "inferno",
+    cmap: str = ERROR_CMAP,
+    log: bool = False,
 ) -> Path:
-    """A heat-map PNG of ``error_map(image, reference)`` with a colour bar in 8-bit levels.
-    ``vmax`` fixes the top of the scale (default: the largest error, at least 1)."""
-    plt = _pyplot()
-    err = error_map(image, reference)
-    top = float(vmax) if vmax is not None else max(1.0, float(err.max()))
-    h, w = err.shape
-    fig, ax = plt.subplots(figsize=(w / 80 + 1.4, h / 80 + 0.6), dpi=100)
-    im = ax.imshow(err, cmap=cmap, vmin=0.0, vmax=top, interpolation="nearest")
-    ax.set_axis_off()
-    if title:
-        ax.set_title(title, fontsize=9)
-    bar = fig.colorbar(im, ax=ax, fraction=0.046, pad=0.04)
-    bar.set_label("|error| (8-bit levels)", fontsize=8)
-    bar.ax.tick_params(labelsize=7)
-    p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(p, bbox_inches="tight")
-    plt.close(fig)
-    return p
+    """A heat-map PNG of ``error_map(image, reference)`` with a colour bar in 8-bit levels, on
+    its own scale (``vmax`` fixes the top; default its largest error, at least 1)."""
+    return save_error_heatmaps([(path, image, title)], reference, log=log, vmax=vmax, cmap=cmap)[0]
+
+
+# ======================================================================== what a picture plots
+def data_digest(data, digits: int = 6) -> str:
+    """SHA-256 of the numbers (and text) a picture plots: nested dicts (keys sorted), lists,
+    strings, booleans, integers and integer arrays exactly, floats rounded to ``digits``
+    significant digits.  Independent of the plotting and PNG libraries."""
+    h = hashlib.sha256()
+    _feed(h, data, digits)
+    return h.hexdigest()
+
+
+def _float_text(x: float, digits: int) -> bytes:
+    return (f"{float(x):.{digits}g}" if np.isfinite(x) else repr(float(x))).encode()
+
+
+def _feed(h, x, digits: int) -> None:
+    if isinstance(x, dict):
+        h.update(b"{%d;" % len(x))
+        for key in sorted(x, key=str):
+            _feed(h, str(key), digits)
+            _feed(h, x[key], digits)
+    elif isinstance(x, list | tuple):
+        h.update(b"[%d;" % len(x))
+        for v in x:
+            _feed(h, v, digits)
+    elif isinstance(x, str):
+        b = x.encode()
+        h.update(b"s%d;" % len(b) + b)
+    elif x is None:
+        h.update(b"n;")
+    elif isinstance(x, bool | np.bool_):
+        h.update(b"b1;" if x else b"b0;")
+    elif isinstance(x, int | np.integer):
+        h.update(b"i%d;" % int(x))
+    elif isinstance(x, float | np.floating):
+        h.update(b"f" + _float_text(x, digits) + b";")
+    elif isinstance(x, np.ndarray):
+        h.update(b"a" + ",".join(map(str, x.shape)).encode() + b";")
+        if x.dtype.kind in "biu":
+            h.update(np.ascontiguousarray(x, dtype="<i8").tobytes())
+        elif x.dtype.kind == "f":
+            for v in x.ravel():
+                h.update(_float_text(v, digits) + b",")
+        else:
+            raise TypeError(f"array dtype = {x.dtype} is not legal: legal are integers and floats")
+    else:
+        raise TypeError(f"type = {type(x).__name__} is not legal in a picture's data")
+
+
+def wrap_title(label: str, width: int = 34) -> str:
+    """A panel title in at most two lines, broken after ", " or ": " where it can be."""
+    if len(label) <= width:
+        return label
+    for sep in (", ", ": "):
+        cut = label.rfind(sep, 0, width + 1)
+        if cut > 0 and len(label) - cut - len(sep) <= width:
+            return label[: cut + len(sep)].rstrip() + "\n" + label[cut + len(sep) :]
+    return textwrap.fill(label, width)
+
+
+def _key(label: str) -> str:
+    """The short key of a method label: "(c)" of "(c) units: ...", else the label."""
+    m = re.match(r"\(\w+\)", label)
+    return m.group(0) if m else label
+
+
+def sheet_data(
+    panels: Sequence[tuple[str, np.ndarray]],
+    title: str = "",
+    error_reference: np.ndarray | None = None,
+    reference_label: str = "reference",
+    log_error: bool = False,
+) -> dict:
+    """Everything ``save_sheet`` plots, as numbers and text (``data_digest`` hashes it)."""
+    if not panels:
+        raise ValueError("panels = [] is not legal: the sheet needs at least one image")
+    data: dict = {
+        "title": str(title),
+        "panels": [{"label": str(label), "image": _rgb(img)} for label, img in panels],
+    }
+    if error_reference is not None:
+        ref = _rgb(error_reference)
+        data["reference"] = {"label": str(reference_label), "image": ref}
+        data["log_error"] = bool(log_error)
+        for panel in data["panels"]:
+            err = error_map(panel["image"], ref).astype(np.uint8)
+            panel["error"] = err
+            panel["error_top"] = error_top(err)
+            # Pixels with an error of at least L levels, L = 1..255 (the distribution chart).
+            counts = np.bincount(err.ravel(), minlength=256)
+            panel["at_least"] = counts[::-1].cumsum()[::-1][1:]
+    return data
+
+
+def sheet_digest(*args, **kwargs) -> str:
+    """``data_digest(sheet_data(...))``: the sheet's numbers, without drawing it."""
+    return data_digest(sheet_data(*args, **kwargs))
 
 
 def save_sheet(
     path: str | Path,
     panels: Sequence[tuple[str, np.ndarray]],
-    columns: int = 4,
+    columns: int = 3,
     title: str = "",
     error_reference: np.ndarray | None = None,
-    error_vmax: float | None = None,
+    reference_label: str = "reference",
+    log_error: bool = False,
 ) -> Path:
-    """A side-by-side sheet: one labelled panel per ``(label, image)``.
+    """A side-by-side sheet: one labelled panel per ``(label, image)``, ``columns`` a row.
 
-    With ``error_reference`` a second row of panels per row shows each image's error heat-map
-    against it (shared scale ``error_vmax``, default the largest error), with one colour bar.
+    With ``error_reference`` every panel has its error heat-map against it underneath, each on
+    its own scale with its own colour bar (symmetric-log with ``log_error``), and a column on the
+    left holds the reference image and a chart of how many pixels of each panel are off by at
+    least L levels.  The layout is fixed (no blank bands): each panel is drawn at 256 x 256
+    pixels (a 256 x 256 image at one pixel per pixel).
     """
-    plt = _pyplot()
-    if not panels:
-        raise ValueError("panels = [] is not legal: the sheet needs at least one image")
-    imgs = [(str(label), _rgb(img)) for label, img in panels]
-    cols = max(1, min(int(columns), len(imgs)))
-    rows = -(-len(imgs) // cols)
-    errs = None
-    if error_reference is not None:
-        errs = [error_map(img, error_reference) for _, img in imgs]
-        top = error_vmax if error_vmax is not None else max(1.0, max(float(e.max()) for e in errs))
-    h, w = imgs[0][1].shape[:2]
-    panel_rows = rows * (2 if errs is not None else 1)
-    scale = 2.4 / max(h, w)
-    fig, axes = plt.subplots(
-        panel_rows,
-        cols,
-        figsize=(cols * w * scale + 0.8, panel_rows * (h * scale + 0.35) + 0.4),
-        dpi=110,
-        squeeze=False,
+    return draw_sheet(
+        path,
+        sheet_data(panels, title, error_reference, reference_label, log_error),
+        columns,
     )
-    im_err = None
-    for k in range(rows * cols):
+
+
+def draw_sheet(path: str | Path, data: dict, columns: int = 3) -> Path:
+    """Draw ``sheet_data``'s ``data`` (the layout of ``save_sheet``)."""
+    plt = _pyplot()
+    panels = data["panels"]
+    with_err = "reference" in data
+    log = bool(data.get("log_error", False))
+    cols = max(1, min(int(columns), len(panels)))
+    rows = -(-len(panels) // cols)
+    # Layout in pixels (dpi 100): a PW x PH panel (the first image's aspect, 256 on its long
+    # side), title bands T1 (two lines) above an image and T2 above an error map; a cell is a
+    # panel, its colour bar and tick labels and a gap; the left column (reference, chart, note)
+    # is at least LW wide.
+    h0, w0 = panels[0]["image"].shape[:2]
+    PW, PH = round(256 * w0 / max(h0, w0)), round(256 * h0 / max(h0, w0))
+    T1, T2, M, GAP = 34, 18, 8, 14
+    BAR_GAP, BAR_W, BAR_TXT = 5, 10, 30
+    cell_w = PW + (BAR_GAP + BAR_W + BAR_TXT if with_err else 0) + GAP
+    cell_h = T1 + PH + ((T2 + PH) if with_err else 0) + 6
+    left_w = max(cell_w, 300) if with_err else 0
+    sup = 30 if data["title"] else 0
+    width = M + left_w + cols * cell_w - GAP + M
+    height = sup + rows * cell_h + M
+    fig = plt.figure(figsize=(width / 100, height / 100), dpi=100)
+
+    def axes(x: float, y_top: float, w: float, h: float):
+        """Axes at x (from the left), y_top (from the top), in pixels."""
+        return fig.add_axes((x / width, 1 - (y_top + h) / height, w / width, h / height))
+
+    def text(x: float, y_top: float, label: str, size: float) -> None:
+        """Text centred on x, its lines ending at y_top (pixels from the top)."""
+        fig.text(
+            x / width, 1 - y_top / height, label, ha="center", va="bottom", fontsize=size,
+            linespacing=1.1,
+        )  # fmt: skip
+
+    def show(x: float, y_top: float, rgb: np.ndarray) -> None:
+        """Pixels straight onto the figure (no axes: quick), centred in a PW x PH box."""
+        img = _fit(rgb, PW, PH)
+        h, w = img.shape[:2]
+        fig.figimage(img, x + (PW - w) // 2, height - y_top - (PH + h) // 2, origin="upper")
+
+    cmap = plt.get_cmap(ERROR_CMAP)
+    x0 = M + left_w
+    for k, panel in enumerate(panels):
         r, c = divmod(k, cols)
-        ax = axes[r * (2 if errs is not None else 1), c]
-        ax.set_axis_off()
-        if errs is not None:
-            axes[r * 2 + 1, c].set_axis_off()
-        if k >= len(imgs):
+        x, y = x0 + c * cell_w, sup + r * cell_h
+        text(x + PW / 2, y + T1 - 3, wrap_title(panel["label"]), 9)
+        show(x, y + T1, panel["image"])
+        if not with_err:
             continue
-        label, img = imgs[k]
-        ax.imshow(img, interpolation="nearest")
-        ax.set_title(label, fontsize=8)
-        if errs is not None:
-            eax = axes[r * 2 + 1, c]
-            im_err = eax.imshow(errs[k], cmap="inferno", vmin=0, vmax=top, interpolation="nearest")
-            eax.set_title(f"error, max {errs[k].max():.0f}", fontsize=7)
-    if im_err is not None:
-        bar = fig.colorbar(im_err, ax=axes.ravel().tolist(), fraction=0.02, pad=0.01)
-        bar.set_label("|error| (8-bit levels)", fontsize=8)
-    if title:
-        fig.suptitle(title, fontsize=10)
+        top = panel["error_top"]
+        norm = error_norm(top, log)
+        ye = y + T1 + PH + T2
+        text(x + PW / 2, ye - 2, f"error: max {int(np.max(panel['error']))} levels", 8)
+        show(x, ye, (cmap(norm(panel["error"].astype(np.float64)))[..., :3] * 255).astype(np.uint8))
+        bar = fig.colorbar(_scalar_mappable(norm, cmap), cax=axes(x + PW + BAR_GAP, ye, BAR_W, PH))
+        _style_colorbar(bar, top, log, 7)
+    if with_err:
+        ref = data["reference"]
+        text(M + PW / 2, sup + T1 - 3, wrap_title(ref["label"]), 9)
+        show(M, sup + T1, ref["image"])
+        # The chart: under the reference, down to the end of the next row's image band.
+        chart_h = (PH + T2 + T1 + PH) if rows >= 2 else PH
+        ax = axes(M + 44, sup + T1 + PH + T2 + 4, left_w - GAP - 44 - 8, chart_h - 40)
+        _distribution_chart(ax, panels)
+        if rows >= 2:
+            scale = "symmetric-log (linear to 1 level, then decades)" if log else "linear"
+            note = (
+                "Under each image: its error against the reference, |method \u2212 reference| "
+                "per pixel (the largest of the three channels) in 8-bit levels, on its own "
+                f"{scale} scale with its own colour bar; black = no error. The chart above "
+                "compares the methods on one scale."
+            )
+            fig.text(
+                (M + 4) / width,
+                1 - (sup + cell_h + T1 + PH + T2 + PH / 2) / height,
+                textwrap.fill(note, max(20, (left_w - GAP) // 7)),
+                fontsize=9,
+                va="center",
+                linespacing=1.35,
+            )
+    if data["title"]:
+        fig.suptitle(data["title"], fontsize=11, y=1 - 8 / height, va="top")
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(p, bbox_inches="tight")
-    plt.close(fig)
+    try:
+        fig.savefig(p)
+    finally:
+        plt.close(fig)
     return p
+
+
+def _fit(rgb: np.ndarray, width: int, height: int) -> np.ndarray:
+    """``rgb`` resized (nearest pixel) to fit a width x height box, aspect kept."""
+    h, w = rgb.shape[:2]
+    scale = min(width / w, height / h)
+    if scale == 1:
+        return rgb
+    rows = (np.arange(max(1, round(h * scale))) / scale).astype(int)
+    cols = (np.arange(max(1, round(w * scale))) / scale).astype(int)
+    return rgb[np.minimum(rows, h - 1)][:, np.minimum(cols, w - 1)]
+
+
+def _scalar_mappable(norm, cmap):
+    from matplotlib import cm
+
+    return cm.ScalarMappable(norm=norm, cmap=cmap)
+
+
+def _distribution_chart(ax, panels) -> None:
+    """Pixels off by at least L levels against L, every panel (log-log)."""
+    levels = np.arange(1, 256)
+    cmap = _pyplot().get_cmap("tab10")
+    for i, panel in enumerate(panels):
+        n = panel["at_least"]
+        if n[0] == 0:
+            continue
+        last = int(np.flatnonzero(n)[-1]) + 1
+        ax.step(
+            levels[:last],
+            n[:last],
+            where="post",
+            color=cmap(i % 10),
+            lw=1.0 + 1.2 * (len(panels) - 1 - i) / max(1, len(panels) - 1),  # equal curves show
+            label=_key(panel["label"]),
+        )
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlim(1, 256)
+    ax.set_xlabel("L (8-bit levels)", fontsize=8, labelpad=1)
+    ax.set_ylabel("pixels with error ≥ L", fontsize=8, labelpad=1)
+    ax.text(
+        0.5,
+        1.01,
+        "how many pixels are off by L or more",
+        fontsize=9,
+        ha="center",
+        va="bottom",
+        transform=ax.transAxes,
+    )
+    ax.tick_params(labelsize=7, length=2, pad=1)
+    ax.grid(True, which="major", alpha=0.3)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=7, loc="upper right", ncol=2, handlelength=1.2, columnspacing=0.8)

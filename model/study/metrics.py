@@ -4,7 +4,7 @@ All metrics work on 8-bit images ((H, W, 3) uint8, or any array of 0..255 values
 float64, over all three channels of the selected pixels (all pixels unless ``mask`` is given):
 
 * ``nmse`` -- the thesis's normalised mean square error
-  ``NMSE = sum((img - ref)^2) / sum(ref^2)``; the thesis (Romanyuk 2009, SEEDS.md section 4)
+  ``NMSE = sum((img - ref)^2) / sum(ref^2)``; the thesis (Romanyuk 2009; docs/scenes.md)
   treats ``NMSE <= 0.00025`` (``NMSE_VISUALLY_IDENTICAL``) as visually identical.
 * ``psnr`` -- ``10 log10(255^2 / MSE)`` dB, MSE the mean of ``(img - ref)^2`` (inf if equal).
 * ``max_abs_error`` -- the largest ``|img - ref|`` in 8-bit levels.

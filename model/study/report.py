@@ -11,6 +11,7 @@ the first call), as shaded pixels per second.
 
 from __future__ import annotations
 
+import json
 import math
 import os
 from dataclasses import dataclass
@@ -19,7 +20,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from model.render import pipeline, raster, reference, scene
+from model.render import meshes, pipeline, raster, reference, shade
 from model.study import images, metrics
 from model.units import specular
 
@@ -70,7 +71,7 @@ def check_output_dir(arg: str, path: Path) -> Path:
     return path
 
 
-def shader_for(method: str, cfg: pipeline.PipelineConfig | None = None) -> raster.Shader:
+def shader_for(method: str, cfg: pipeline.PipelineConfig | None = None) -> shade.Shader:
     if method in FLOAT_SHADERS:
         return FLOAT_SHADERS[method]
     if cfg is None:
@@ -97,7 +98,7 @@ def table_bits(method: str, cfg: pipeline.PipelineConfig | None = None) -> int:
 class MethodResult:
     name: str
     label: str
-    frame: raster.Frame
+    frame: shade.Frame
     comparison: metrics.Comparison
     seconds: float  # best shading time of the timed runs
     table_bits: int
@@ -115,7 +116,7 @@ class MethodResult:
 class SceneRun:
     scene_name: str
     raster: raster.Raster
-    reference: raster.Frame
+    reference: shade.Frame
     highlight: np.ndarray
     results: dict[str, MethodResult]
 
@@ -131,16 +132,16 @@ def run_methods(
     """Rasterise once, shade with every method, compare each with (a)."""
     methods = list(methods or METHOD_LABELS)
     configs = configs or {}
-    frame_raster = raster.rasterise(scene.builtin_scene(scene_name, size, size))
-    ref = raster.shade(frame_raster, reference.exact_blinn)
+    frame_raster = raster.rasterise(meshes.builtin_scene(scene_name, size, size))
+    ref = shade.shade(frame_raster, reference.exact_blinn)
     highlight = metrics.highlight_mask(ref.specular)
     results = {}
     for name in tqdm(methods, desc=f"{scene_name} {size}x{size}", disable=not progress):
         shader = shader_for(name, configs.get(name))
-        raster.shade(frame_raster, shader)  # warm-up: numba compiles on the first call
+        shade.shade(frame_raster, shader)  # warm-up: numba compiles on the first call
         best, frame = math.inf, None
         for _ in range(max(1, repeats)):
-            frame = raster.shade(frame_raster, shader)
+            frame = shade.shade(frame_raster, shader)
             best = min(best, frame.stats.shade_seconds)
         results[name] = MethodResult(
             name=name,
@@ -207,31 +208,154 @@ def requirements(run: SceneRun) -> str:
     return "\n".join(lines)
 
 
-def write_images(run: SceneRun, out_dir: Path) -> list[Path]:
-    """PNG per method, error heat-maps against (a), and one side-by-side sheet."""
+def sheet_args(run: SceneRun, log_error: bool = False) -> dict:
+    """What the demo sheet shows (``images.sheet_data``'s arguments): (a) as the reference in
+    the left column, every other method with its error map against it."""
+    size = run.reference.rgb.shape[0]
+    ref_name = next(iter(run.results))
+    return {
+        "panels": [(r.label, r.frame.rgb) for n, r in run.results.items() if n != ref_name],
+        "title": f"{run.scene_name}, {size} x {size}: every method, and its error against (a)",
+        "error_reference": run.reference.rgb,
+        "reference_label": run.results[ref_name].label,
+        "log_error": bool(log_error),
+    }
+
+
+def sheet_record(run: SceneRun, log_error: bool = False, data: dict | None = None) -> dict:
+    """What the demo sheet was made from: scene, size, scale and the digest of the data it plots
+    (``images.data_digest`` of ``images.sheet_data``; ``data`` if already computed)."""
+    if data is None:
+        data = images.sheet_data(**sheet_args(run, log_error))
+    return {
+        "scene": run.scene_name,
+        "size": int(run.reference.rgb.shape[0]),
+        "log_error": bool(log_error),
+        "data_sha256": images.data_digest(data),
+    }
+
+
+def write_images(run: SceneRun, out_dir: Path, log_error: bool = False) -> list[Path]:
+    """PNG per method, error heat-maps against (a) (each on its own scale; symmetric-log with
+    ``log_error``) and one side-by-side sheet (the last path), with ``<scene>_sheet.json``
+    beside it: what the sheet was made from (``sheet_record``; ``make pictures`` records it)."""
+    out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
-    written = []
-    vmax = max(1.0, max(r.comparison.max_abs_error for r in run.results.values()))
-    for name, r in run.results.items():
-        written.append(images.save_png(out_dir / f"{run.scene_name}_{name}.png", r.frame.rgb))
-        if name != "exact":
-            written.append(
-                images.save_error_heatmap(
-                    out_dir / f"{run.scene_name}_{name}_error.png",
-                    r.frame.rgb,
-                    run.reference.rgb,
-                    title=f"|{r.label} - (a)|, 8-bit levels",
-                    vmax=vmax,
-                )
-            )
-    panels = [(r.label, r.frame.rgb) for r in run.results.values()]
-    written.append(
-        images.save_sheet(
-            out_dir / f"{run.scene_name}_sheet.png",
-            panels,
-            columns=4,
-            title=f"{run.scene_name}: every method, and its error against (a)",
-            error_reference=run.reference.rgb,
-        )
+    written = [
+        images.save_png(out_dir / f"{run.scene_name}_{name}.png", r.frame.rgb)
+        for name, r in run.results.items()
+    ]
+    written += images.save_error_heatmaps(
+        [
+            (out_dir / f"{run.scene_name}_{name}_error.png", r.frame.rgb, r.label)
+            for name, r in run.results.items()
+            if name != "exact"
+        ],
+        run.reference.rgb,
+        log=log_error,
+        reference_label="(a)",
     )
+    sheet = out_dir / f"{run.scene_name}_sheet.png"
+    data = images.sheet_data(**sheet_args(run, log_error))
+    written.append(images.draw_sheet(sheet, data, columns=3))
+    record = {"picture": sheet.name, **sheet_record(run, log_error, data)}
+    sheet.with_suffix(".json").write_text(json.dumps(record, indent=2) + "\n")
     return written
+
+
+# ================================================================= the pictures the docs show
+PICTURES_JSON = Path("docs/pictures.json")
+DEMO_SHEET = "docs/demo_sheet.png"
+DEMO_COMMAND = "python -m model demo"
+TRADE_FIGURE = "docs/trade_pareto.png"
+TRADE_COMMAND = "python -m model trade --figure docs/"
+
+
+def trade_results_record(csv_path: Path) -> dict:
+    """What a sweep's ``results.csv`` holds, without its timings (they differ on every run):
+    the scenes, sizes and number of rows, and a digest of every other column (rows sorted,
+    floats to 6 significant digits)."""
+    import csv
+
+    with open(csv_path, newline="") as f:
+        rows = list(csv.DictReader(f))
+    columns = sorted(c for c in (rows[0] if rows else {}) if "second" not in c)
+
+    def value(text: str) -> float | str:
+        try:
+            return float(text)
+        except ValueError:
+            return text
+
+    table = sorted(tuple(r[c] for c in columns) for r in rows)
+    return {
+        "made_from": str(csv_path),
+        "scenes": sorted({r.get("scene", "") for r in rows}),
+        "sizes": sorted({int(r["size"]) for r in rows if r.get("size", "").isdigit()}),
+        "rows": len(rows),
+        "data_sha256": images.data_digest(
+            {"columns": columns, "rows": [[value(v) for v in row] for row in table]}
+        ),
+    }
+
+
+def record_pictures(
+    demo_out: Path = Path("out"),
+    trade_out: Path = Path("out/trade"),
+    record_path: Path = PICTURES_JSON,
+) -> dict:
+    """``make pictures``' last step, after ``python -m model demo`` and ``python -m model trade
+    --figure docs/``: copy the demo's sheet to docs/demo_sheet.png and write docs/pictures.json,
+    per picture the command that makes it and what it was made from (a digest of the numbers it
+    plots; for the trade figure, of the sweep's results).  ``tests/test_pictures.py`` checks it."""
+    import shutil
+
+    sidecar = Path(demo_out) / f"{DEFAULT_SCENE}_sheet.json"
+    if not sidecar.is_file():
+        raise SetupError(f"'{sidecar}' is missing: run `{DEMO_COMMAND}` first")
+    sheet = json.loads(sidecar.read_text())
+    wanted = {"scene": DEFAULT_SCENE, "size": DEFAULT_SIZE, "log_error": False}
+    made = {k: sheet.get(k) for k in wanted}
+    if made != wanted:
+        raise SetupError(
+            f"'{sidecar}' is of {made}, not the README's picture {wanted}: run `{DEMO_COMMAND}`"
+        )
+    results = Path(trade_out) / "results.csv"
+    for needed in (results, Path(TRADE_FIGURE)):
+        if not needed.is_file():
+            raise SetupError(f"'{needed}' is missing: run `{TRADE_COMMAND}` first")
+    Path(DEMO_SHEET).parent.mkdir(parents=True, exist_ok=True)
+    shutil.copyfile(sidecar.with_name(sheet["picture"]), DEMO_SHEET)
+    record = {
+        "made_by": "make pictures",
+        "about": (
+            "Every picture README.md and docs/ show: the command that makes it and a SHA-256 of "
+            "the numbers it plots (model.study.images.data_digest), not of the PNG bytes, which "
+            "change with the matplotlib and zlib versions. tests/test_pictures.py checks them."
+        ),
+        "pictures": {
+            DEMO_SHEET: {
+                "command": DEMO_COMMAND,
+                "copied_from": str(sidecar.with_name(sheet["picture"])),
+                **{k: sheet[k] for k in ("scene", "size", "log_error", "data_sha256")},
+            },
+            TRADE_FIGURE: {"command": TRADE_COMMAND, **trade_results_record(results)},
+        },
+    }
+    record_path = Path(record_path)
+    record_path.write_text(json.dumps(record, indent=2) + "\n")
+    return record
+
+
+if __name__ == "__main__":  # `python -m model.study.report pictures` (make pictures)
+    import sys
+
+    if sys.argv[1:] != ["pictures"]:
+        sys.exit("usage: python -m model.study.report pictures")
+    try:
+        done = record_pictures()
+    except SetupError as exc:
+        sys.exit(f"make pictures: error: {exc}")
+    for picture, entry in done["pictures"].items():
+        print(f"{picture}: {entry['command']} (data {entry['data_sha256'][:12]})")
+    print(f"wrote {PICTURES_JSON}")

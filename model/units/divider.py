@@ -1,4 +1,4 @@
-"""Shift-add divider (Romanyuk & Obidnyk, SEEDS.md section 3): a / k as a * sum of 2**-j.
+"""Shift-add divider (Romanyuk & Obidnyk, docs/divider.md): a / k as a * sum of 2**-j.
 
 The reciprocal 1/k is stored as the ROM word ``r = round(2**N / k)`` (N = ``recip_bits``), whose
 set bits are the terms i_j / 2**j of the article.  The unit loads the dividend into a shift
@@ -20,6 +20,7 @@ the unit stops as soon as the remaining bits are all zero, so ``cycles(k)`` depe
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from fractions import Fraction
 
@@ -195,11 +196,42 @@ def divide(a, k, cfg: DividerConfig = DEFAULT):
     its format.
     """
     a_arr, k_arr = _checked(a, k, cfg)
-    recip = np.asarray(rom_words(cfg))[k_arr.ravel()]
+    recip = _rom_and_cycles(cfg)[0][k_arr.ravel()]
     q = np.empty(a_arr.size, dtype=np.int64)
     _shift_add_kernel(np.ascontiguousarray(a_arr.ravel()), recip, cfg.recip_bits, q)
     q = q.reshape(a_arr.shape)
     return int(q) if q.ndim == 0 else q
+
+
+def divide_many(a, k, cfg: DividerConfig = DEFAULT) -> tuple[np.ndarray, np.ndarray]:
+    """Many divisions in one call: (quotients, busy cycles), element i equal to
+    ``divide(a[i], k[i], cfg)`` and ``cycles(k[i], cfg)``.
+
+    ``a`` and ``k`` are integer arrays of one shape (empty allowed; no broadcasting), checked
+    once for the batch; both results have that shape, int64.  A bad operand raises the
+    ``ValueError`` of ``divide``, naming the element: ``k[3] = 0 is out of range``.
+    """
+    if np.shape(a) != np.shape(k) or np.ndim(a) == 0:
+        raise ValueError(
+            f"operand shapes are out of range: got a {np.shape(a)}, k {np.shape(k)}; legal are "
+            "arrays of one shape"
+        )
+    a_lo, a_hi = cfg.a_range
+    a_arr = fixed.check_operand("a", a, a_lo, a_hi, rows=True)
+    k_arr = fixed.check_operand("k", k, 1, cfg.k_max, rows=True)
+    words, cycles_per_k = _rom_and_cycles(cfg)
+    q = np.empty(a_arr.size, dtype=np.int64)
+    _shift_add_kernel(a_arr.ravel(), words[k_arr.ravel()], cfg.recip_bits, q)
+    return q.reshape(a_arr.shape), cycles_per_k[k_arr]
+
+
+@functools.cache
+def _rom_and_cycles(cfg: DividerConfig) -> tuple[np.ndarray, np.ndarray]:
+    """The ROM words and ``cycles`` of every k of ``cfg``, computed once (read-only)."""
+    words = rom_words(cfg)
+    cycles_per_k = _cycles_for_words(words, cfg.recip_bits)
+    words.flags.writeable = cycles_per_k.flags.writeable = False
+    return words, cycles_per_k
 
 
 @njit(cache=True)
@@ -244,7 +276,7 @@ def cycles(k, cfg: DividerConfig = DEFAULT):
     and a new start is accepted in that cycle: one division every ``cycles(k) + 1`` clocks.
     """
     k_arr = fixed.check_operand("k", k, 0, cfg.k_max)
-    c = _cycles_for_words(rom_words(cfg)[k_arr], cfg.recip_bits)
+    c = _rom_and_cycles(cfg)[1][k_arr]
     return int(c) if c.ndim == 0 else c
 
 

@@ -77,35 +77,72 @@ def check_width(name: str, width: int, lo: int, hi: int) -> None:
         raise ValueError(f"{name} = {width!r} is out of range: legal widths are {lo}..{hi}")
 
 
-def check_operand(name: str, value: int | np.ndarray, lo: int, hi: int) -> np.ndarray:
+def check_operand(
+    name: str, value: int | np.ndarray, lo: int, hi: int, *, rows: bool = False
+) -> np.ndarray:
     """Return ``value`` as an int64 array, or raise ``ValueError`` naming the first bad element.
 
-    Non-integer input is refused rather than truncated: nothing is lost silently.
+    Non-integer input is refused rather than truncated: nothing is lost silently.  With
+    ``rows`` (the batched calls) the message also names the bad element's index, ``c[3] = ...``
+    or ``i0[3, 1] = ...``; otherwise it is word for word the per-line call's.
     """
     arr = np.asarray(value)
     if arr.dtype == object and arr.size and all(_is_int(x) for x in arr.flat):
         # Python ints beyond int64 (2**70): numpy keeps them as objects; compare them exactly.
-        outside = [int(x) for x in arr.flat if not lo <= int(x) <= hi]
-        if outside:
-            raise ValueError(f"{name} = {outside[0]} is out of range: legal range is {lo}..{hi}")
+        outside = np.array([not lo <= int(x) <= hi for x in arr.flat]).reshape(arr.shape)
+        if outside.any():
+            label, first = _first(name, arr, outside, rows)
+            raise ValueError(f"{label} = {int(first)} is out of range: legal range is {lo}..{hi}")
         arr = arr.astype(np.int64)
     if arr.dtype.kind not in "iu":
         if arr.dtype.kind == "f" and np.all(np.isfinite(arr)) and np.all(arr == np.floor(arr)):
             outside = (arr < lo) | (arr > hi)  # before the cast: 1e30 would wrap in int64
             if outside.any():
-                first = float(arr[outside].flat[0])
-                raise ValueError(f"{name} = {first:g} is out of range: legal range is {lo}..{hi}")
+                label, first = _first(name, arr, outside, rows)
+                raise ValueError(
+                    f"{label} = {float(first):g} is out of range: legal range is {lo}..{hi}"
+                )
             arr = arr.astype(np.int64)
         else:
-            raise ValueError(f"{name} must be an integer, got {value!r}: legal range is {lo}..{hi}")
+            if not rows or arr.ndim == 0:
+                raise ValueError(
+                    f"{name} must be an integer, got {value!r}: legal range is {lo}..{hi}"
+                )
+            label, first = _first(name, arr, _not_integer(arr), rows)
+            raise ValueError(
+                f"{label} must be an integer, got {first!r}: legal range is {lo}..{hi}"
+            )
     if arr.dtype.kind == "u" and arr.size and arr.max() > np.iinfo(np.int64).max:
-        raise ValueError(f"{name} = {int(arr.max())} is out of range: legal range is {lo}..{hi}")
+        label, first = _first(name, arr, arr > np.iinfo(np.int64).max, rows)
+        first = first if rows else arr.max()
+        raise ValueError(f"{label} = {int(first)} is out of range: legal range is {lo}..{hi}")
     arr = arr.astype(np.int64)
     bad = (arr < lo) | (arr > hi)
     if bad.any():
-        first = int(arr[bad].flat[0])
-        raise ValueError(f"{name} = {first} is out of range: legal range is {lo}..{hi}")
+        label, first = _first(name, arr, bad, rows)
+        raise ValueError(f"{label} = {int(first)} is out of range: legal range is {lo}..{hi}")
     return arr
+
+
+def _first(name: str, arr: np.ndarray, bad: np.ndarray, rows: bool) -> tuple[str, object]:
+    """(``name`` or ``name[i, ...]``, the value) of the first element ``bad`` marks."""
+    index = tuple(int(i) for i in np.argwhere(bad)[0])
+    first = arr[index]
+    first = first.item() if isinstance(first, np.generic) else first
+    if not rows or not index:
+        return name, first
+    return f"{name}[{', '.join(map(str, index))}]", first
+
+
+def _not_integer(arr: np.ndarray) -> np.ndarray:
+    """Which elements of a non-integer-typed array are not integers (floats with a fraction,
+    infinities, NaN, booleans, objects that are not ints)."""
+    if arr.dtype.kind == "f":
+        finite = np.isfinite(arr)
+        return ~finite | (np.where(finite, arr, 0.0) != np.floor(np.where(finite, arr, 0.0)))
+    if arr.dtype == object:
+        return np.array([not _is_int(x) for x in arr.flat], dtype=bool).reshape(arr.shape)
+    return np.ones(arr.shape, dtype=bool)
 
 
 def _is_int(x) -> bool:

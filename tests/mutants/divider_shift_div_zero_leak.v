@@ -16,7 +16,8 @@
  * q is signed, A_WIDTH + RECIP_BITS bits, RECIP_BITS of them fraction bits; it equals
  * model.divider.divide() bit for bit.  k = 0 gives div_zero = 1 with q = 0.
  *
- * Protocol (DESIGN.md): operands are sampled with their write strobes while busy = 0;
+ * Protocol (docs/architecture.md, "The protocol every unit follows"): operands are sampled
+ * with their write strobes while busy = 0;
  * a start accepted in the same cycle as a write runs on the values held before it.
  * valid is high for one cycle, in the first cycle busy is 0 again.
  *
@@ -25,6 +26,9 @@
  * divider_shift_PARAMETER_ERROR_A_WIDTH_must_be_2_to_40).  In simulation the ROM image is
  * checked at time 0 (see "ROM image check"): a missing, short, malformed or wrong-configuration
  * file ends the run with a message and a non-zero exit status.
+ *
+ * Documentation: docs/divider.md (ports, formats, parameters, timing, accuracy, the contract
+ * and its tests); docs/architecture.md (the protocol, the ROM image format, the benches).
  */
 
 `resetall

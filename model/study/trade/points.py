@@ -1,0 +1,301 @@
+"""Trade points: the knobs, their values, the grids of configurations, the scenes a point names.
+
+Owns ``TradePoint`` (a scene, a size, one value per knob) with its cache ``key``
+(``CACHE_VERSION``), the knobs (``KNOBS``, ``K_SETS``, ``DEFAULT_POINT``, ``row_knobs``), the grids
+(``Sweep``, ``SMALL_SWEEPS``, ``NAMED``, ``FULL_PRODUCT``, ``grid_configs``, ``grid_points``) and
+the scenes a point can name: a built-in scene or a mesh file (``mesh_key``, ``point_scene``).  May
+import ``model.units`` and ``model.render``.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import hashlib
+import itertools
+import json
+import math
+import re
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from model.render import meshes, pipeline, scene
+from model.units import divider, gouraud, specular
+
+CACHE_VERSION = 4
+"""Part of every key: bump it when a figure's definition changes, so old cache files are unused."""
+DEFAULT_SIZE = 128
+K_SETS: dict[str, tuple[tuple[int, int, int], ...]] = {
+    "patent": specular.PATENT_K_RANGES,  # k = 1, 2, 4, 16 (fig. 13)
+    "k1-2-16": ((1, 1, 1), (2, 2, 2), (3, 1000, 16)),  # no cos^4 table: n = 3..6 use cos^16
+    "k16": ((1, 1000, 16),),  # a single cos^16 table
+    "cos2": specular.PROTOTYPE_K_RANGES,  # the prototype's single cos^2 table
+}
+"""The decoder's n -> k maps.  Without the cos^4 table, n = 3..6 are better served by cos^16
+(worst float epicentre error 3.4 % at n = 3) than by cos^2 (4.4 % at n = 15)."""
+
+KNOBS: tuple[str, ...] = (
+    "rom_addr_bits",
+    "rom_data_bits",
+    "z_frac_bits",
+    "k_set",
+    "alpha",
+    "recip_bits",
+    "p",
+    "specular_mode",
+    "highlight_levels",
+)
+
+MESH_KEY = re.compile(r"mesh:(?P<name>[^/\\]+)@(?P<sha1>[0-9a-f]{12})")
+"""A mesh file's scene key (``mesh_key``): ``mesh:<file name>@<first 12 hex of its sha1>``."""
+
+
+def row_knobs(row: dict) -> dict:
+    """The knob values of a result or an aggregated row (``TradePoint.with_knobs`` takes them)."""
+    return {k: row[k] for k in KNOBS}
+
+
+def mesh_key(path: str | Path) -> str:
+    """The scene key of a mesh file: its name and the first 12 hex digits of the sha1 of its
+    bytes, so the cache follows the content (an edited file is a new key, a copy elsewhere the
+    same).  ``OSError`` when the file cannot be read."""
+    p = Path(path)
+    digest = hashlib.sha1(p.read_bytes(), usedforsecurity=False).hexdigest()
+    return f"mesh:{p.name}@{digest[:12]}"
+
+
+def _hash(payload: dict) -> str:
+    text = json.dumps(payload, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+@dataclass(frozen=True)
+class TradePoint:
+    """One scene at one resolution through one configuration (the knobs: ``model.study.trade``).
+
+    ``scene`` is a built-in scene's name (``meshes.SCENE_NAMES``) or a mesh file's key
+    (``mesh_key``); ``point_scene`` makes the scene."""
+
+    scene: str = "sphere"
+    size: int = DEFAULT_SIZE
+    rom_addr_bits: int = specular.DEFAULT.rom_addr_bits
+    rom_data_bits: int = specular.DEFAULT.rom_data_bits
+    z_frac_bits: int = specular.DEFAULT.z_frac_bits
+    k_set: str = "patent"
+    alpha: str = specular.DEFAULT.alpha
+    recip_bits: int = divider.DEFAULT.recip_bits
+    p: int = gouraud.DEFAULT.p
+    specular_mode: str = "unit"
+    highlight_levels: float = 0.5
+
+    def __post_init__(self) -> None:
+        if not MESH_KEY.fullmatch(self.scene):
+            try:
+                scene.check_choice("scene", self.scene, meshes.SCENE_NAMES)
+            except ValueError as exc:
+                raise ValueError(f"{exc} or a mesh key 'mesh:<file name>@<sha1: 12 hex>'") from None
+        scene.check_choice("k_set", self.k_set, tuple(K_SETS))
+        # Canonical types, so that equal points have equal keys (1 and 1.0, numpy ints).
+        for name in ("size", "rom_addr_bits", "rom_data_bits", "z_frac_bits", "recip_bits", "p"):
+            object.__setattr__(self, name, int(getattr(self, name)))
+        object.__setattr__(self, "highlight_levels", float(self.highlight_levels))
+
+    @property
+    def knobs(self) -> dict[str, object]:
+        return {k: getattr(self, k) for k in KNOBS}
+
+    @property
+    def key(self) -> str:
+        """Stable cache key: hash of the canonical JSON of every field (and CACHE_VERSION)."""
+        return _hash({"version": CACHE_VERSION, **dataclasses.asdict(self)})
+
+    @property
+    def config_key(self) -> str:
+        """The same for the knobs only: equal for the scenes of one configuration."""
+        return _hash({"version": CACHE_VERSION, **self.knobs})
+
+    def with_knobs(self, **knobs) -> TradePoint:
+        return dataclasses.replace(self, **knobs)
+
+    def changed_knobs(self) -> dict[str, object]:
+        """The knobs that differ from the default configuration."""
+        base = TradePoint(scene=self.scene, size=self.size)
+        return {k: v for k, v in self.knobs.items() if getattr(base, k) != v}
+
+    @property
+    def label(self) -> str:
+        changed = self.changed_knobs()
+        for name, knobs in NAMED.items():
+            if changed == knobs:
+                return name
+        return ", ".join(f"{k}={v}" for k, v in changed.items()) if changed else "default"
+
+    @property
+    def group(self) -> str:
+        """The sweep the configuration belongs to (its changed knob), for the plots."""
+        changed = self.changed_knobs()
+        if len(changed) == 1:
+            return next(iter(changed))
+        if set(changed) == {"specular_mode", "highlight_levels"}:
+            return "highlight_levels"
+        return "default" if not changed else "combined"
+
+    def to_pipeline_config(self) -> pipeline.PipelineConfig:
+        """The unit configurations this point's knobs select (every knob is one field)."""
+        k_ranges = K_SETS[self.k_set]
+        a_frac = specular.DEFAULT.a_frac_bits
+        spec = specular.SpecularConfig(
+            rom_addr_bits=self.rom_addr_bits,
+            rom_data_bits=self.rom_data_bits,
+            z_frac_bits=self.z_frac_bits,
+            k_ranges=k_ranges,
+            alpha=self.alpha,
+            a_int_bits=a_int_bits_for(k_ranges, self.alpha, a_frac),
+            a_frac_bits=a_frac,
+        )
+        return pipeline.PipelineConfig(
+            divider=dataclasses.replace(divider.DEFAULT, recip_bits=self.recip_bits),
+            gouraud=dataclasses.replace(gouraud.DEFAULT, p=self.p),
+            specular=spec,
+            specular_mode=self.specular_mode,
+            highlight_levels=self.highlight_levels,
+        )
+
+
+@functools.cache
+def a_int_bits_for(k_ranges: tuple, alpha: str, a_frac_bits: int) -> int:
+    """The narrowest ROM-9 integer part holding the largest rounded a of the k-set (>= 1)."""
+    a_max = max(
+        specular.alpha_value(n, k, alpha) for lo, hi, k in k_ranges for n in range(lo, hi + 1)
+    )
+    word = math.floor(a_max * 2**a_frac_bits + 0.5)
+    return max(1, word.bit_length() - a_frac_bits)
+
+
+DEFAULT_POINT = TradePoint()
+
+
+# ================================================================================ the grid
+@dataclass(frozen=True)
+class Sweep:
+    """One knob swept around a base configuration (the default unless ``base`` overrides)."""
+
+    knob: str
+    values: tuple
+    base: tuple[tuple[str, object], ...] = ()
+    title: str = ""
+
+    def configs(self) -> list[dict[str, object]]:
+        return [{**dict(self.base), self.knob: v} for v in self.values]
+
+    @property
+    def base_knobs(self) -> dict[str, object]:
+        return {**DEFAULT_POINT.knobs, **dict(self.base)}
+
+
+SMALL_SWEEPS: tuple[Sweep, ...] = (
+    Sweep("rom_addr_bits", (6, 8, 10, 12, 14), title="ROM-12 address bits"),
+    Sweep("rom_data_bits", (8, 10, 12, 16), title="ROM-12 data bits"),
+    Sweep("z_frac_bits", (6, 8, 10, 12, 16, 20, 26, 30), title="angle fraction bits"),
+    Sweep("k_set", tuple(K_SETS), title="k-set (cos^k tables)"),
+    Sweep("alpha", ("taylor", "inflection"), title="alpha mode (how a is chosen)"),
+    Sweep("recip_bits", (10, 12, 14, 16, 18, 20), title="divider reciprocal bits N"),
+    Sweep("p", (2, 4, 8, 16), title="Gouraud segment size P"),
+    Sweep("specular_mode", ("unit", "adaptive", "vertex"), title="specular path"),
+    Sweep(
+        "highlight_levels",
+        (0.25, 0.5, 1.0, 2.0, 4.0, 8.0, 16.0),
+        base=(("specular_mode", "adaptive"),),
+        title="adaptive highlight threshold (levels)",
+    ),
+)
+"""One knob at a time around the default (each knob's effect isolated); the named alternatives
+(the prototype's cos^2, a single cos^16, {1, 2, 16}, inflection, Gouraud only, adaptive) are
+values of these sweeps."""
+
+NAMED: dict[str, dict[str, object]] = {
+    "free": {"alpha": "inflection", "specular_mode": "adaptive"},
+    "scene-sized": {
+        "alpha": "inflection",
+        "specular_mode": "adaptive",
+        "rom_addr_bits": 10,
+        "rom_data_bits": 12,
+        "recip_bits": 14,
+    },
+}
+"""Knob combinations: the two changes that cost nothing ("free"), and a unit sized for what the
+built-in scenes need rather than for the worst case (2047-pixel lines, every n)."""
+
+FULL_PRODUCT: dict[str, tuple] = {
+    "rom_addr_bits": (8, 10, 12),
+    "rom_data_bits": (10, 12, 16),
+    "z_frac_bits": (18, 22, 26),
+    "k_set": tuple(K_SETS),
+    "alpha": ("taylor", "inflection"),
+    "recip_bits": (14, 20),
+}
+"""The full grid adds this cross product (432 configurations: interactions of the knobs)."""
+
+GRIDS = ("small", "full")
+
+
+def grid_configs(grid: str = "small") -> list[dict[str, object]]:
+    """Knob overrides of every configuration of the grid, in order, without repeats."""
+    scene.check_choice("grid", grid, GRIDS)
+    configs = [{}] + [c for s in SMALL_SWEEPS for c in s.configs()] + list(NAMED.values())
+    if grid == "full":
+        names = list(FULL_PRODUCT)
+        configs += [
+            dict(zip(names, vals, strict=True))
+            for vals in itertools.product(*FULL_PRODUCT.values())
+        ]
+    seen: set[str] = set()
+    unique = []
+    for c in configs:
+        key = DEFAULT_POINT.with_knobs(**c).config_key
+        if key not in seen:
+            seen.add(key)
+            unique.append(c)
+    return unique
+
+
+def grid_points(
+    grid: str = "small", scenes: Sequence[str] = meshes.SCENE_NAMES, size: int = DEFAULT_SIZE
+) -> list[TradePoint]:
+    """Every (configuration, scene) of the grid; each configuration is validated here."""
+    points = []
+    for c in grid_configs(grid):
+        for s in scenes:
+            p = TradePoint(scene=s, size=size, **c)
+            p.to_pipeline_config()  # a bad configuration fails before anything is submitted
+            points.append(p)
+    return points
+
+
+def point_scene(
+    point: TradePoint, mesh_files: Mapping[str, str | Path] | None = None
+) -> scene.Scene:
+    """The scene the point names, at its size: a built-in scene, or the mesh file
+    ``mesh_files[point.scene]`` framed by ``meshes.scene_from_mesh`` with its defaults.
+
+    The file must still be the one its key names: one edited since (another sha1) is refused
+    with ``ValueError``, so that no result is cached under the key of other content."""
+    if not MESH_KEY.fullmatch(point.scene):
+        return meshes.builtin_scene(point.scene, point.size, point.size)
+    path = (mesh_files or {}).get(point.scene)
+    if path is None:
+        raise ValueError(
+            f"scene = {point.scene!r} names a mesh and no file was given for it: legal is "
+            "mesh_files = {key: path} (trade.main makes it from its meshes)"
+        )
+    try:
+        key = mesh_key(path)
+    except OSError as exc:
+        raise ValueError(f"mesh file '{path}' cannot be read: {exc.strerror or exc}") from None
+    if key != point.scene:
+        raise ValueError(
+            f"mesh file '{path}' is now {key!r}, not {point.scene!r}: it changed after the "
+            "sweep started"
+        )
+    return meshes.scene_from_mesh(meshes.load_mesh(path), width=point.size, height=point.size)

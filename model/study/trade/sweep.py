@@ -1,0 +1,470 @@
+"""Evaluating trade points: the figures of one point, the result cache and the Dask engine.
+
+Owns ``evaluate`` (one point's accuracy and cost figures, a flat dict) with its helpers, the
+cache (``cache_path``, ``RESULT_RANGES``, ``check_result``, ``read_cached``, ``load_cached``,
+``store``) and the engine (``run_sweep``, ``SweepOutcome``, ``make_client``, ``connect``,
+``check_workers``, ``sweep_lock``).  May import ``model.units``, ``model.render``,
+``model.study`` ``metrics`` and ``report``, and ``model.study.trade.points``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import functools
+import json
+import math
+import os
+import tempfile
+import time
+from collections.abc import Callable, Iterable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from model.render import pipeline, raster, reference, shade
+from model.study import metrics, report
+from model.study.trade.points import CACHE_VERSION, TradePoint, point_scene
+from model.units import gouraud, specular
+
+CHANNELS = 3
+"""Colour channels: one divider and one Gouraud unit each in the parallel picture."""
+
+
+# ================================================================================ one point
+@functools.lru_cache(maxsize=8)
+def _scene_reference(scene_key: str, size: int, mesh_file: str | None):
+    """Rasterise once per process; the exact reference (a) and its highlight mask."""
+    files = {scene_key: mesh_file} if mesh_file is not None else None
+    frame_raster = raster.rasterise(point_scene(TradePoint(scene=scene_key, size=size), files))
+    ref = shade.shade(frame_raster, reference.exact_blinn)
+    return frame_raster, ref, metrics.highlight_mask(ref.specular)
+
+
+@functools.lru_cache(maxsize=64)
+def epicentre_error(cfg: specular.SpecularConfig) -> tuple[float, int, float, float]:
+    """(worst relative error of the ROM-12 path vs cos^n over n = 2..1000, at n, worst output
+    error vs C cos^n in LSBs over n = 1..1000, the unit's own worst error vs its float
+    approximation C cos^k(a zeta) in LSBs): ``specular.fixed_point_accuracy`` (exhaustive over
+    every angle register value, C at full scale), once per configuration.
+
+    n = 1 is left out of the relative figure: its epicentre runs down to cos = 0, where a
+    relative error measures how a tiny value is rounded (4.9 % at cos = 1/255 for every
+    configuration with a 16-bit table) and would hide every knob; the LSB figure covers it.
+    """
+    acc = specular.fixed_point_accuracy(cfg)
+    i = 1 + int(np.argmax(acc.rom_rel[1:]))
+    return (
+        float(acc.rom_rel[i]),
+        i + 1,
+        float(acc.out_lsb_exact.max()),
+        float(acc.out_lsb_approx.max()),
+    )
+
+
+def line_drift(cfg: pipeline.PipelineConfig) -> float:
+    """Worst drift (levels) of a line's end value over the longest line: the divider's
+    reciprocal (|a| k / 2^(N+1), |a| <= 255, k = k_max) plus the rounded increment
+    (``gouraud.drift_bound``)."""
+    d = cfg.divider
+    return 255.0 * d.k_max / 2.0 ** (d.recip_bits + 1) + gouraud.drift_bound(cfg.gouraud)
+
+
+def angle_drift(cfg: pipeline.PipelineConfig) -> float:
+    """Worst error of the accumulated angle at the end of the longest line, in ROM-12 address
+    steps: dz and z0 rounded to 2^-(z_frac_bits+1) each, 2^len_width of them, scaled by the
+    largest a (the angle-fraction figure the sampled epicentre error cannot show)."""
+    s = cfg.specular
+    a_max = float(specular.rom9_words(s).max()) / 2.0**s.a_frac_bits
+    return 2.0**s.len_width * 2.0 ** -(s.z_frac_bits + 1) * a_max * 2.0**s.rom_addr_bits
+
+
+def hardware(cfg: pipeline.PipelineConfig) -> dict[str, int]:
+    """Adders, multipliers and multiplier partial-product bits (counting rule: module doc)."""
+    has_spec = cfg.specular_mode != "vertex"
+    s = cfg.specular
+    return {
+        "adders": CHANNELS * (1 + gouraud.adder_counts(cfg.gouraud.p)["total"]) + int(has_spec),
+        "multipliers": 2 * int(has_spec),
+        "mult_bits": (s.mag_width * s.a_width + s.c_width * s.rom_data_bits) * int(has_spec),
+    }
+
+
+def evaluate(
+    point: TradePoint, repeats: int = 3, mesh_files: Mapping[str, str | Path] | None = None
+) -> dict[str, object]:
+    """Render the point's scene through its configuration; accuracy and cost (a flat dict).
+
+    ``mesh_files``: the file of each mesh key among the scenes (``points.point_scene``); the
+    sweep passes it as ``functools.partial(evaluate, mesh_files=...)``."""
+    cfg = point.to_pipeline_config()
+    mesh_file = (mesh_files or {}).get(point.scene)
+    frame_raster, ref, highlight = _scene_reference(
+        point.scene, point.size, None if mesh_file is None else str(mesh_file)
+    )
+    shader = pipeline.unit_shader(cfg)
+    shade.shade(frame_raster, shader)  # warm-up: numba compiles or loads on the first call
+    best, frame = math.inf, None
+    for _ in range(max(1, repeats)):
+        frame = shade.shade(frame_raster, shader)
+        best = min(best, frame.stats.shade_seconds)
+    cmp = metrics.compare(frame.rgb, ref.rgb, highlight=highlight)
+    k = frame.stats.counters
+    pixels = frame.stats.pixels_shaded
+    div_c, gou_c, spec_c = (
+        int(k.get("divider_cycles", 0)),
+        int(k.get("gouraud_cycles", 0)),
+        int(k.get("specular_cycles", 0)),
+    )
+    cycles = div_c + gou_c + spec_c
+    frame_clocks = max(math.ceil(div_c / CHANNELS), math.ceil(gou_c / CHANNELS), spec_c)
+    if cfg.specular_mode == "vertex":
+        epi, epi_n, epi_lsb, unit_lsb = math.nan, 0, math.nan, math.nan
+    else:
+        epi, epi_n, epi_lsb, unit_lsb = epicentre_error(cfg.specular)
+    return {
+        **dataclasses.asdict(point),
+        "key": point.key,
+        "config_key": point.config_key,
+        "label": point.label,
+        "nmse": cmp.nmse,
+        "psnr": cmp.psnr,
+        "max_abs_error": cmp.max_abs_error,
+        "share_off_by_more_than_1": cmp.share_off_by_more_than_1,
+        "highlight_max_abs_error": cmp.highlight_max_abs_error,
+        "epicentre_rel_error": epi,
+        "epicentre_worst_n": epi_n,
+        "epicentre_out_lsb": epi_lsb,
+        "unit_error_lsb": unit_lsb,
+        "line_drift_levels": line_drift(cfg),
+        "angle_drift_steps": angle_drift(cfg) if cfg.specular_mode != "vertex" else math.nan,
+        "pixels_shaded": pixels,
+        "divider_cycles": div_c,
+        "gouraud_cycles": gou_c,
+        "specular_cycles": spec_c,
+        "specular_pixels": int(k.get("specular_pixels", 0)),
+        "cycles": cycles,
+        "frame_clocks": frame_clocks,
+        "px_per_clock": pixels / max(cycles, 1),
+        "px_per_clock_parallel": pixels / max(frame_clocks, 1),
+        "table_bits": report.table_bits("trade", cfg),
+        **hardware(cfg),
+        "shade_seconds": best,
+        "sw_pixels_per_second": pixels / max(best, 1e-12),
+    }
+
+
+# ================================================================================ the cache
+def cache_path(cache_dir: Path, point: TradePoint) -> Path:
+    return Path(cache_dir) / f"{point.key}.json"
+
+
+_COUNT = ("int", 0, math.inf, False)
+_SIZE = ("float", 0.0, math.inf, False)
+RESULT_RANGES: dict[str, tuple[str, float, float, bool]] = {
+    "nmse": _SIZE,
+    "psnr": ("float", 0.0, math.inf, False),  # +inf: equal to the reference
+    "max_abs_error": ("float", 0.0, 255.0, False),
+    "share_off_by_more_than_1": ("float", 0.0, 1.0, False),
+    "highlight_max_abs_error": ("float", 0.0, 255.0, True),
+    "epicentre_rel_error": ("float", 0.0, math.inf, True),
+    "epicentre_worst_n": ("int", 0, specular.N_MAX, False),
+    "epicentre_out_lsb": ("float", 0.0, math.inf, True),
+    "unit_error_lsb": ("float", 0.0, math.inf, True),
+    "line_drift_levels": _SIZE,
+    "angle_drift_steps": ("float", 0.0, math.inf, True),
+    **dict.fromkeys(
+        ("pixels_shaded", "divider_cycles", "gouraud_cycles", "specular_cycles"), _COUNT
+    ),
+    **dict.fromkeys(("specular_pixels", "cycles", "frame_clocks", "table_bits"), _COUNT),
+    **dict.fromkeys(("adders", "multipliers", "mult_bits"), _COUNT),
+    **dict.fromkeys(("px_per_clock", "px_per_clock_parallel", "shade_seconds"), _SIZE),
+    "sw_pixels_per_second": _SIZE,
+}
+"""Every figure of a result (``evaluate``): kind, legal range, NaN allowed (no specular unit, no
+highlight pixel).  A cached result is used only when every one is present and legal."""
+
+
+def check_result(point: TradePoint, result) -> str | None:
+    """Why ``result`` is not a valid result of ``point`` (a missing field, a figure out of
+    range, another point's fields), or None when it is."""
+    if not isinstance(result, dict):
+        return f"result is a {type(result).__name__}, not an object"
+    expect = {**dataclasses.asdict(point), "key": point.key, "config_key": point.config_key}
+    for name, value in expect.items():
+        if name not in result:
+            return f"field {name!r} is missing"
+        if result[name] != value:
+            return f"{name} = {result[name]!r} is not this point's {value!r}"
+    if not isinstance(result.get("label"), str):
+        return "field 'label' is missing or not a string"
+    for name, (kind, lo, hi, nan_ok) in RESULT_RANGES.items():
+        if name not in result:
+            return f"field {name!r} is missing"
+        x = result[name]
+        number = int | float if kind == "float" else int
+        legal = "an integer" if kind == "int" else "a finite number"
+        legal += f" >= {lo:g}" if math.isinf(hi) else f" in {lo:g}..{hi:g}"
+        if name == "psnr":
+            legal += " (inf: equal images)"
+        if nan_ok:
+            legal += " or NaN"
+        if isinstance(x, bool) or not isinstance(x, number):
+            return f"{name} = {x!r} is not legal: legal is {legal}"
+        if math.isnan(x) and nan_ok:
+            continue
+        if math.isnan(x) or not lo <= x <= hi or (math.isinf(x) and name != "psnr"):
+            return f"{name} = {x!r} is out of range: legal is {legal}"
+    return None
+
+
+def read_cached(cache_dir: Path, point: TradePoint) -> tuple[dict | None, str | None]:
+    """(the cached result of the point, None), (None, None) when there is no cache file, or
+    (None, why) when the file is there but cannot be used (broken, another point's, invalid)."""
+    path = cache_path(cache_dir, point)
+    try:
+        text = path.read_text()
+    except FileNotFoundError:
+        return None, None
+    except (OSError, UnicodeDecodeError) as exc:
+        return None, f"unreadable: {exc}"
+    try:
+        data = json.loads(text)
+    except ValueError as exc:
+        return None, f"not valid JSON: {exc}"
+    if not isinstance(data, dict):
+        return None, f"holds a JSON {type(data).__name__}, not an object"
+    if data.get("version") != CACHE_VERSION:
+        return None, f"version = {data.get('version')!r}, expected {CACHE_VERSION}"
+    if data.get("point") != dataclasses.asdict(point):
+        return None, "holds the result of another point"
+    why = check_result(point, data["result"]) if "result" in data else "field 'result' is missing"
+    if why is not None:
+        return None, why
+    return data["result"], None
+
+
+def load_cached(cache_dir: Path, point: TradePoint) -> dict | None:
+    """The cached result of the point, or None (missing, unreadable, of another point or
+    invalid: ``read_cached`` says why)."""
+    return read_cached(cache_dir, point)[0]
+
+
+def store(cache_dir: Path, point: TradePoint, result: dict) -> Path:
+    """Write the result atomically: a temporary file in the cache folder, then os.replace."""
+    path = cache_path(cache_dir, point)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    payload = {"version": CACHE_VERSION, "point": dataclasses.asdict(point), "result": result}
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{point.key}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w") as f:
+            json.dump(payload, f, indent=1)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+    return path
+
+
+# ================================================================================ the engine
+@dataclass(frozen=True)
+class SweepOutcome:
+    results: list[dict]  # in the order of the points given
+    cached: int  # points found in the cache
+    evaluated: int  # points evaluated (submitted) in this run
+    failed: dict[str, str] = field(default_factory=dict)  # key -> error
+    seconds: float = 0.0
+    recomputed: dict[str, str] = field(default_factory=dict)  # key -> why its cache was unused
+
+
+CONNECT_TIMEOUT = 5.0
+"""Seconds to wait for ``--scheduler`` before giving up (Dask's own default is 30)."""
+LOCK_NAME = "sweep.lock"
+"""The lock file in the cache folder: one sweep at a time per cache (``sweep_lock``)."""
+SetupError = report.SetupError
+
+
+def check_workers(workers, allow_zero: bool = False) -> int | None:
+    """``workers`` as an int (None: the default), or ``ValueError`` naming it (a negative count
+    made the LocalCluster hang)."""
+    lo = 0 if allow_zero else 1
+    if workers is None:
+        return None
+    if isinstance(workers, bool) or not isinstance(workers, int | np.integer) or workers < lo:
+        extra = " (0: evaluate in this process)" if allow_zero else ""
+        raise ValueError(
+            f"workers = {workers!r} is out of range: legal is None (local default) or an "
+            f"integer >= {lo}{extra}"
+        )
+    return int(workers)
+
+
+def connect(scheduler: str, timeout: float = CONNECT_TIMEOUT):
+    """A client of the Dask scheduler at ``scheduler``, or ``SetupError`` naming the address
+    after ``timeout`` seconds (unreachable) or at once (not an address)."""
+    from dask.distributed import Client
+
+    try:
+        return Client(scheduler, timeout=timeout)
+    except (OSError, ValueError, TypeError) as exc:
+        why = f"no answer within {timeout:g} s" if isinstance(exc, OSError) else str(exc)
+        raise SetupError(
+            f"argument --scheduler: cannot connect to {scheduler!r} ({why}): must be the "
+            "address of a running Dask scheduler, e.g. tcp://127.0.0.1:8786",
+            status=1,
+        ) from None
+
+
+@contextlib.contextmanager
+def sweep_lock(cache_dir: Path):
+    """Hold ``<cache_dir>/sweep.lock`` (``fcntl.flock``, released when the process ends, even
+    killed) for one sweep; a second sweep on the same cache does not wait: it raises
+    ``SetupError`` naming the lock file and the pid that holds it."""
+    import fcntl
+
+    path = Path(cache_dir) / LOCK_NAME
+    path.parent.mkdir(parents=True, exist_ok=True)
+    f = open(path, "a+")  # noqa: SIM115 (held open for the whole with-block)
+    try:
+        fcntl.flock(f, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        f.seek(0)
+        other = f.read().strip() or "unknown"
+        f.close()
+        raise SetupError(
+            f"another trade sweep (pid {other}) holds the lock {path}: one sweep at a time per "
+            "--out; wait for it to finish or use another --out",
+            status=1,
+        ) from None
+    try:
+        f.seek(0)
+        f.truncate()
+        f.write(f"{os.getpid()}\n")
+        f.flush()
+        yield path
+    finally:
+        f.truncate(0)
+        fcntl.flock(f, fcntl.LOCK_UN)
+        f.close()
+
+
+def make_client(workers: int | None = None, scheduler: str | None = None):
+    """A Dask client: to the scheduler at ``scheduler`` (``connect``), or a LocalCluster of
+    ``workers`` processes (>= 1; default min(2, CPUs))."""
+    from dask.distributed import Client, LocalCluster
+
+    if scheduler:
+        return connect(scheduler)
+    n = check_workers(workers) or min(2, os.cpu_count() or 1)
+    cluster = LocalCluster(
+        n_workers=n,
+        threads_per_worker=1,
+        processes=True,
+        dashboard_address=None,
+        silence_logs=40,  # logging.ERROR
+    )
+    return Client(cluster)
+
+
+def run_sweep(
+    points: Iterable[TradePoint],
+    cache_dir: Path,
+    *,
+    client=None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    repeats: int = 3,
+    progress: bool = True,
+    evaluate_fn: Callable[..., dict] = evaluate,
+    lock: bool = True,
+) -> SweepOutcome:
+    """Evaluate every point not in ``cache_dir`` on Dask and cache each result as it comes.
+
+    ``client``: an existing ``dask.distributed.Client`` (kept open); otherwise one is made from
+    ``scheduler`` / ``workers`` and closed at the end.  ``workers=0`` without a client or
+    scheduler evaluates in this process, in order (debugging, ``NUMBA_DISABLE_JIT=1``).
+    A cache file that cannot be used (broken JSON, not an object, a missing field, a figure out
+    of range: ``read_cached``) is evaluated again, and said so (one line each with
+    ``progress``; ``SweepOutcome.recomputed``).  ``lock``: hold ``sweep_lock(cache_dir)`` for
+    the sweep (a second sweep on the same cache raises ``SetupError`` at once).
+    """
+    check_workers(workers, allow_zero=True)
+    cache_dir = Path(cache_dir)
+    cache_dir.mkdir(parents=True, exist_ok=True)
+    with sweep_lock(cache_dir) if lock else contextlib.nullcontext():
+        return _run_sweep(
+            points, cache_dir, client, workers, scheduler, repeats, progress, evaluate_fn
+        )
+
+
+def _run_sweep(
+    points, cache_dir, client, workers, scheduler, repeats, progress, evaluate_fn
+) -> SweepOutcome:
+    from tqdm import tqdm
+
+    began = time.perf_counter()
+    points = list(dict.fromkeys(points))  # unique, in order
+    done: dict[str, dict] = {}
+    recomputed: dict[str, str] = {}
+    for p in points:
+        cached, why = read_cached(cache_dir, p)
+        if cached is not None:
+            done[p.key] = cached
+        elif why is not None:
+            recomputed[p.key] = why
+            if progress:
+                print(
+                    f"trade: cache entry {cache_path(cache_dir, p)} is not used ({why}): "
+                    "evaluating the point again"
+                )
+    todo = [p for p in points if p.key not in done]
+    n_cached = len(done)
+    if progress:
+        print(f"trade: {len(points)} points, {n_cached} cached, {len(todo)} to evaluate")
+    failed: dict[str, str] = {}
+    bar = tqdm(total=len(todo), desc="trade", unit="pt", disable=not progress or not todo)
+
+    def finish(p: TradePoint, result: dict) -> None:
+        store(cache_dir, p, result)
+        done[p.key] = result
+        bar.update(1)
+
+    if todo and client is None and scheduler is None and workers == 0:
+        for p in todo:
+            try:
+                finish(p, evaluate_fn(p, repeats))
+            except Exception as exc:
+                failed[p.key] = f"{p}: {exc!r}"
+    elif todo:
+        from dask.distributed import as_completed
+
+        own = client is None
+        client = client or make_client(workers, scheduler)
+        try:
+            futures = {
+                client.submit(evaluate_fn, p, repeats, key=f"trade-{p.key}", pure=False): p
+                for p in todo
+            }
+            for fut in as_completed(futures):
+                p = futures[fut]
+                try:
+                    finish(p, fut.result())
+                except Exception as exc:
+                    failed[p.key] = f"{p}: {exc!r}"
+                fut.release()
+        finally:
+            if own:
+                cluster = client.cluster
+                client.close()
+                if cluster is not None:
+                    cluster.close()
+    bar.close()
+    return SweepOutcome(
+        results=[done[p.key] for p in points if p.key in done],
+        cached=n_cached,
+        evaluated=len(todo),
+        failed=failed,
+        seconds=time.perf_counter() - began,
+        recomputed=recomputed,
+    )

@@ -1,0 +1,309 @@
+"""Specular unit: the float set-up of the patent's "external device", from end vectors to registers.
+
+Owns ``setup_line`` / ``setup_lines`` (N, H at the line's ends -> the registers C, dz, z0 of
+``C cos^n(z0 + t dz)``), the geometry they rest on (``half_vector_path``, ``rotation_onto`` and
+their numba kernels), the results ``LineSetup`` / ``LineSetups`` and the float reference
+``blinn_line``.  Float arithmetic only; the register words come from ``SpecularConfig``'s
+formats.  May import numpy, numba, ``model.units.fixed`` and ``config``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+
+from model.units import fixed
+from model.units.specular.config import DEFAULT, N_MAX, SpecularConfig
+
+_EPS = 1e-12
+
+
+@dataclass(frozen=True)
+class LineSetup:
+    """The external device's result for one line: float values and the register words."""
+
+    gamma: float  # angle between H1 and H2' (rad)
+    lam: float  # lambda (rad), chosen so the line's angles lie in [-3pi/2, 3pi/2]
+    amp: float  # A = max of N1.H on the great circle (>= 0)
+    c: float  # C = light * (2**out_width - 1) * A**n, output LSBs
+    dz: float  # gamma / l in units of pi/2 (0 for l = 0)
+    z0: float  # -lambda in units of pi/2
+    c_reg: int
+    dz_reg: int
+    z0_reg: int
+    n: int
+    length: int
+
+    def registers(self) -> dict[str, int]:
+        """The operand registers of the unit: c, dz, z0, n, len."""
+        return {
+            "c": self.c_reg,
+            "dz": self.dz_reg,
+            "z0": self.z0_reg,
+            "n": self.n,
+            "len": self.length,
+        }
+
+
+def _unit_vector(name: str, v) -> np.ndarray:
+    arr = np.asarray(v, dtype=np.float64)
+    if arr.shape != (3,) or not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} = {v!r} is out of range: legal is a finite 3-vector")
+    with np.errstate(over="ignore"):
+        norm = float(np.linalg.norm(arr))
+    if math.isinf(norm):  # (0, 0, 1e300): scale first, then it normalises like any other
+        arr = arr / np.abs(arr).max()
+        norm = float(np.linalg.norm(arr))
+    if norm < _EPS:
+        raise ValueError(
+            f"{name} = {v!r} is out of range: legal is a non-zero 3-vector (length >= {_EPS:g})"
+        )
+    return arr / norm
+
+
+def _scaled_rows(arr: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(rows, their lengths), rows whose length overflows (a normal (0, 0, 1e300)) first
+    divided by their largest component, so that they normalise like any other; the other rows
+    are untouched (the same float values as a plain ``arr / norm``)."""
+    with np.errstate(over="ignore"):
+        norm = np.linalg.norm(arr, axis=1)
+    big = np.isinf(norm)
+    if big.any():
+        arr = arr.copy()
+        arr[big] /= np.abs(arr[big]).max(axis=1, keepdims=True)
+        norm[big] = np.linalg.norm(arr[big], axis=1)
+    return arr, norm
+
+
+@njit(cache=True)
+def _dot3(a: np.ndarray, b: np.ndarray) -> float:
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+@njit(cache=True)
+def _cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.array(
+        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+    )
+
+
+@njit(cache=True)
+def _perpendicular(v: np.ndarray) -> np.ndarray:
+    """A fixed unit vector perpendicular to v: v x e, e the coordinate axis least aligned with v."""
+    e = np.zeros(3)
+    e[int(np.argmin(np.abs(v)))] = 1.0
+    p = _cross3(v, e)
+    return p / np.sqrt(_dot3(p, p))
+
+
+@njit(cache=True)
+def _rotate_onto(src: np.ndarray, dst: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """v rotated by the rotation taking unit vector src onto dst (Rodrigues, axis src x dst).
+
+    R v = c v + s (k x v) + (1 - c) k (k . v).  src = dst: identity.  src = -dst (axis
+    undefined): the half turn about the fixed perpendicular ``_perpendicular(dst)``.
+    """
+    axis = _cross3(src, dst)
+    s = np.sqrt(_dot3(axis, axis))
+    c = _dot3(src, dst)
+    if s < _EPS:
+        if c > 0:
+            return v.copy()
+        u = _perpendicular(dst)
+        return 2.0 * _dot3(u, v) * u - v
+    k = axis / s
+    return c * v + s * _cross3(k, v) + (1.0 - c) * _dot3(k, v) * k
+
+
+@njit(cache=True)
+def _path(n1: np.ndarray, n2: np.ndarray, h1: np.ndarray, h2: np.ndarray):
+    """(W, gamma) of ``half_vector_path`` for unit vectors."""
+    h2r = _rotate_onto(n2, n1, h2)
+    cg = _dot3(h1, h2r)
+    w = h2r - cg * h1
+    sg = np.sqrt(_dot3(w, w))
+    if sg >= 1e-9:
+        return w / sg, np.arctan2(sg, cg)
+    if cg > 0:
+        return np.zeros(3), 0.0
+    w = n1 - _dot3(n1, h1) * h1
+    wn = np.sqrt(_dot3(w, w))
+    if wn >= 1e-9:
+        return w / wn, np.pi
+    return _perpendicular(h1), np.pi
+
+
+@njit(cache=True)
+def _setup_kernel(
+    n1: np.ndarray,
+    n2: np.ndarray,
+    h1: np.ndarray,
+    h2: np.ndarray,
+    n: np.ndarray,
+    light: np.ndarray,
+    length: np.ndarray,
+    out_max: int,
+    out: np.ndarray,
+) -> None:
+    """The external device for each row (unit vectors): out[i] = gamma, lambda, A, C, dz, z0.
+
+    See ``setup_line`` for the formulas and the degenerate cases.
+    """
+    for i in range(n.size):
+        w, gamma = _path(n1[i], n2[i], h1[i], h2[i])
+        cos1 = _dot3(n1[i], h1[i])
+        nw = _dot3(n1[i], w)
+        amp = min(1.0, np.hypot(cos1, nw))
+        lam = np.arctan2(nw, cos1)
+        if gamma / 2 - lam > np.pi:
+            lam += 2 * np.pi
+        out[i, 0] = gamma
+        out[i, 1] = lam
+        out[i, 2] = amp
+        out[i, 3] = light[i] * out_max * amp ** n[i]
+        out[i, 4] = (gamma / length[i]) / (np.pi / 2) if length[i] > 0 else 0.0
+        out[i, 5] = -lam / (np.pi / 2)
+
+
+def rotation_onto(src: np.ndarray, dst: np.ndarray) -> np.ndarray:
+    """The rotation matrix taking unit vector src onto dst (Rodrigues, axis src x dst).
+
+    src = dst: identity.  src = -dst (axis undefined): the half turn about the fixed
+    perpendicular ``_perpendicular(dst)``.  Its columns are ``_rotate_onto`` of the basis.
+    """
+    src, dst = np.asarray(src, dtype=np.float64), np.asarray(dst, dtype=np.float64)
+    return np.stack([_rotate_onto(src, dst, e) for e in np.eye(3)], axis=1)
+
+
+def half_vector_path(n1, n2, h1, h2) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
+    """(N1, H1, W, gamma): along the line H(t) = H1 cos(t gamma) + W sin(t gamma), N = N1.
+
+    H2' = H2 rotated by the rotation taking N2 onto N1; gamma = angle(H1, H2'); W the unit vector
+    perpendicular to H1 towards H2'.  gamma -> 0: W = 0 (H is constant).  gamma -> pi (H2' =
+    -H1, the great circle undefined): W = the part of N1 perpendicular to H1 (the path passes the
+    highlight's peak), or a fixed perpendicular if N1 is parallel to H1.
+    """
+    n1u, n2u = _unit_vector("n1", n1), _unit_vector("n2", n2)
+    h1u, h2u = _unit_vector("h1", h1), _unit_vector("h2", h2)
+    w, gamma = _path(n1u, n2u, h1u, h2u)
+    return n1u, h1u, w, float(gamma)
+
+
+@dataclass(frozen=True)
+class LineSetups:
+    """``setup_lines``' result: one row per line, float values and register words."""
+
+    gamma: np.ndarray
+    lam: np.ndarray
+    amp: np.ndarray
+    c: np.ndarray
+    dz: np.ndarray
+    z0: np.ndarray
+    c_reg: np.ndarray
+    dz_reg: np.ndarray
+    z0_reg: np.ndarray
+
+
+def _unit_rows(name: str, v) -> np.ndarray:
+    arr = np.asarray(v, dtype=np.float64)
+    if arr.ndim != 2 or arr.shape[1] != 3 or not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name} is out of range: legal is an (S, 3) array of finite vectors")
+    scaled, norm = _scaled_rows(arr)
+    if arr.shape[0] and norm.min() < _EPS:
+        bad = int(np.argmin(norm))
+        raise ValueError(
+            f"{name}[{bad}] = {arr[bad].tolist()} is out of range: legal is a non-zero 3-vector "
+            f"(length >= {_EPS:g})"
+        )
+    return scaled / norm[:, None]
+
+
+def setup_lines(n1, n2, h1, h2, n, light, length, cfg: SpecularConfig = DEFAULT) -> LineSetups:
+    """``setup_line`` for S lines at once: (S, 3) end vectors, (S,) n, light and l."""
+    vecs = [_unit_rows(name, v) for name, v in (("n1", n1), ("n2", n2), ("h1", h1), ("h2", h2))]
+    rows = vecs[0].shape[0]
+    if any(v.shape[0] != rows for v in vecs):
+        raise ValueError("n1, n2, h1, h2 must have the same number of rows")
+    n_arr = np.broadcast_to(fixed.check_operand("n", n, 1, N_MAX), (rows,))
+    len_arr = np.broadcast_to(fixed.check_operand("length", length, 0, cfg.len_max), (rows,))
+    light_arr = np.broadcast_to(np.asarray(light, dtype=np.float64), (rows,))
+    if not np.all(np.isfinite(light_arr)) or (rows and light_arr.min() < 0):
+        raise ValueError(f"light = {light!r} is out of range: legal is a finite value >= 0")
+    out = np.empty((rows, 6))
+    _setup_kernel(
+        *vecs,
+        np.ascontiguousarray(n_arr, dtype=np.int64),
+        np.ascontiguousarray(light_arr),
+        np.ascontiguousarray(len_arr, dtype=np.int64),
+        cfg.out_max,
+        out,
+    )
+    gamma, lam, amp, c, dz, z0 = out.T
+    return LineSetups(
+        gamma=gamma,
+        lam=lam,
+        amp=amp,
+        c=c,
+        dz=dz,
+        z0=z0,
+        c_reg=np.asarray(cfg.c_format.quantise(c), dtype=np.int64).reshape(rows),
+        dz_reg=np.asarray(cfg.z_format.quantise(dz), dtype=np.int64).reshape(rows),
+        z0_reg=np.asarray(cfg.z_format.quantise(z0), dtype=np.int64).reshape(rows),
+    )
+
+
+def setup_line(
+    n1, n2, h1, h2, n: int, light: float, length: int, cfg: SpecularConfig = DEFAULT
+) -> LineSetup:
+    """The float "external device": register values of one line from its end vectors.
+
+    ``n1``, ``h1``: normal and half-vector at the start pixel; ``n2``, ``h2`` at the end pixel
+    (normalised here); ``n`` the specular exponent; ``light`` = I_l * k_s (1 = full scale);
+    ``length`` the number of intervals l.  N.H(t) = A cos(t gamma - lambda) along the line, so
+    I = C cos^n(zeta) with C = light * (2**out_width - 1) * A**n, zeta(0) = -lambda and
+    dz = gamma / l.
+
+    With N.W the component of N1 along the path's direction W, A = hypot(cos theta1, N.W) and
+    lambda = atan2(N.W, cos theta1): the patent's lambda = arctan P and A = cos theta1 / cos lambda
+    whenever cos theta1 > 0, and still defined when cos theta1 <= 0.  lambda is then moved by
+    2 pi so that the middle of the line's angles lies in (-pi, pi]: every angle of the line is
+    in [-3pi/2, 3pi/2], where cos > 0 exactly for |zeta| < pi/2, the range the unit lights.
+    Degenerate cases (each gives finite registers, never NaN): gamma -> 0 (constant H: dz = 0),
+    gamma -> pi and N1 = -N2 (see ``half_vector_path`` and ``rotation_onto``), cos theta1 <= 0
+    (A, lambda from atan2; A = 0 gives C = 0), l = 0 (dz = 0, one pixel).  C beyond the C
+    register saturates.  One implementation with ``setup_lines`` (a one-row batch).
+    """
+    n_i = int(fixed.check_operand("n", n, 1, N_MAX))
+    len_i = int(fixed.check_operand("length", length, 0, cfg.len_max))
+    if not isinstance(light, int | float | np.floating) or not math.isfinite(light) or light < 0:
+        raise ValueError(f"light = {light!r} is out of range: legal is a finite value >= 0")
+    vecs = [
+        _unit_vector(name, v)[None, :]
+        for name, v in (("n1", n1), ("n2", n2), ("h1", h1), ("h2", h2))
+    ]
+    rows = setup_lines(*vecs, n_i, float(light), len_i, cfg)
+    return LineSetup(
+        gamma=float(rows.gamma[0]),
+        lam=float(rows.lam[0]),
+        amp=float(rows.amp[0]),
+        c=float(rows.c[0]),
+        dz=float(rows.dz[0]),
+        z0=float(rows.z0[0]),
+        c_reg=int(rows.c_reg[0]),
+        dz_reg=int(rows.dz_reg[0]),
+        z0_reg=int(rows.z0_reg[0]),
+        n=n_i,
+        length=len_i,
+    )
+
+
+def blinn_line(n1, n2, h1, h2, n: int, light: float, length: int, out_max: int = 255) -> np.ndarray:
+    """Float reference: light * out_max * max(0, N1.H(t))**n at the l+1 pixels, H(t) on the
+    great circle of ``half_vector_path`` (vector arithmetic, no lambda or A involved)."""
+    n1u, h1u, w, gamma = half_vector_path(n1, n2, h1, h2)
+    t = np.arange(length + 1) / length if length > 0 else np.zeros(1)
+    h = np.outer(np.cos(t * gamma), h1u) + np.outer(np.sin(t * gamma), w)
+    return light * out_max * np.maximum(h @ n1u, 0.0) ** n

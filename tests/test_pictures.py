@@ -1,0 +1,153 @@
+"""The pictures README.md and docs/ show exist and are current (`make pictures` remakes them).
+
+docs/pictures.json, written by `make pictures`, records per picture the command that makes it
+and a SHA-256 of the numbers it plots (``images.data_digest``), not of its PNG bytes, which change
+with the matplotlib and zlib versions.  The demo sheet's numbers are recomputed here in-process at
+the recorded scene and size (about a second): any change to what it shows (a shading method, the
+renderer, the scene, a label, the error scale) fails the test until `make pictures` is rerun.
+The trade figure's sweep takes half a minute, so its numbers are compared with the local sweep's
+(out/trade/results.csv, left by `make pictures` or `make trade`) when there is one of the same
+scenes and size; without one, only its record is checked.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from model.render import meshes
+from model.study import images, report
+
+ROOT = Path(__file__).resolve().parents[1]
+RECORD = ROOT / report.PICTURES_JSON
+IMAGE_REF = re.compile(r"!\[[^\]]*\]\(\s*<?([^)\s>]+)|<img\b[^>]*\bsrc=[\"']([^\"']+)")
+RERUN = "run `make pictures`"
+
+
+def recorded() -> dict:
+    assert RECORD.is_file(), f"{report.PICTURES_JSON} is missing: {RERUN}"
+    return json.loads(RECORD.read_text())["pictures"]
+
+
+def shown_pictures() -> list[tuple[str, str]]:
+    """(markdown file, picture) of every local picture README.md and docs/**/*.md show, the
+    picture's path from the repository root."""
+    found = []
+    for md in [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]:
+        for m in IMAGE_REF.finditer(md.read_text()):
+            target = (m.group(1) or m.group(2)).split("#")[0]
+            if "://" in target or target.startswith("data:"):
+                continue
+            picture = (md.parent / target).resolve().relative_to(ROOT).as_posix()
+            found.append((md.relative_to(ROOT).as_posix(), picture))
+    return found
+
+
+def make_pictures_recipe() -> list[str]:
+    """The commands of the Makefile's `pictures` target, with $(PY) written as python."""
+    lines = (ROOT / "Makefile").read_text().splitlines()
+    start = next((i for i, s in enumerate(lines) if s.startswith("pictures:")), None)
+    assert start is not None, "the Makefile has no `pictures` target"
+    recipe = []
+    for line in lines[start + 1 :]:
+        if not line.startswith("\t"):
+            break
+        recipe.append(re.sub(r"^\$\(PY\)", "python", line.strip().lstrip("@")))
+    return recipe
+
+
+def test_every_picture_the_docs_show_exists_and_is_recorded() -> None:
+    shown = shown_pictures()
+    assert ("README.md", report.DEMO_SHEET) in shown  # the pattern finds the README's pictures
+    pictures = recorded()
+    for md, picture in shown:
+        assert (ROOT / picture).is_file(), f"{md} shows {picture}, which does not exist: {RERUN}"
+        assert picture in pictures, (
+            f"{md} shows {picture}, which {report.PICTURES_JSON} does not list: make it in "
+            "`make pictures` (model.study.report.record_pictures)"
+        )
+    recipe = make_pictures_recipe()
+    for picture, entry in pictures.items():
+        assert (ROOT / picture).is_file(), f"{picture} is listed but missing: {RERUN}"
+        assert entry["command"] in recipe, f"{picture}: `{entry['command']}` is not in {recipe}"
+        assert re.fullmatch(r"[0-9a-f]{64}", entry["data_sha256"])
+    assert "python -m model.study.report pictures" in recipe  # writes the record
+
+
+@pytest.fixture(scope="module")
+def teapot_file() -> Path:
+    """data/teapot.bez (``make setup`` fetches it; fetched here if a fresh tree lacks it)."""
+    if not meshes.TEAPOT_PATH.is_file():
+        subprocess.run(
+            [str(meshes.REPO_ROOT / meshes.TEAPOT_FETCH)], cwd=meshes.REPO_ROOT, check=True
+        )
+    return meshes.TEAPOT_PATH
+
+
+def test_demo_sheet_shows_what_the_demo_draws_now(teapot_file) -> None:
+    entry = recorded()[report.DEMO_SHEET]
+    assert entry["command"] == report.DEMO_COMMAND
+    made = (entry["scene"], entry["size"], entry["log_error"])
+    assert made == (report.DEFAULT_SCENE, report.DEFAULT_SIZE, False), (
+        f"{report.DEMO_SHEET} is of {made}, not the demo's default: {RERUN}"
+    )
+    run = report.run_methods(entry["scene"], entry["size"])
+    now = report.sheet_record(run, entry["log_error"])["data_sha256"]
+    assert now == entry["data_sha256"], (
+        f"{report.DEMO_SHEET} is stale: `{report.DEMO_COMMAND}` now draws other numbers than "
+        f"the ones {report.PICTURES_JSON} records (data {now[:12]}, recorded "
+        f"{entry['data_sha256'][:12]}): {RERUN}"
+    )
+
+
+def test_the_sheet_digest_sees_one_level_in_one_pixel() -> None:
+    """The probe of the check above: any change to what the sheet plots changes its digest."""
+    rng = np.random.default_rng(12)
+    ref = rng.integers(0, 256, (16, 16, 3)).astype(np.uint8)
+    img = ref.copy()
+    img[4:6, 4:6] //= 2
+    args = {"panels": [("(b) m", img)], "title": "t", "error_reference": ref}
+    base = images.sheet_digest(**args)
+    assert images.sheet_digest(**args) == base
+    one_level = img.copy()
+    one_level[9, 3, 1] ^= 1
+    off_ref = ref.copy()
+    off_ref[0, 0, 2] ^= 1
+    for change in (
+        {"panels": [("(b) m", one_level)]},
+        {"error_reference": off_ref},
+        {"panels": [("(b) n", img)]},
+        {"title": "u"},
+        {"log_error": True},
+        {"reference_label": "(z)"},
+    ):
+        assert images.sheet_digest(**{**args, **change}) != base, change
+    # Numbers are hashed, not their representation: key order and float noise do not count.
+    assert images.data_digest({"a": 1, "b": 0.1 + 0.2}) == images.data_digest({"b": 0.3, "a": 1})
+    assert images.data_digest([np.uint8(7)]) == images.data_digest([7])
+    assert images.data_digest([0.3]) != images.data_digest([0.30001])
+
+
+def test_trade_figure_is_drawn_from_the_local_sweep() -> None:
+    entry = recorded()[report.TRADE_FIGURE]
+    assert entry["command"] == report.TRADE_COMMAND
+    results = ROOT / "out" / "trade" / "results.csv"
+    if not results.is_file():
+        pytest.skip(
+            "no local sweep (out/trade/results.csv): the trade figure's numbers are not checked "
+            "(`make pictures` or `make trade` makes one)"
+        )
+    now = report.trade_results_record(results)
+    sweep = {k: now[k] for k in ("scenes", "sizes")}
+    if sweep != {k: entry[k] for k in ("scenes", "sizes")}:
+        pytest.skip(f"out/trade holds a sweep of {sweep}, not the figure's: not compared")
+    assert now["data_sha256"] == entry["data_sha256"], (
+        f"{report.TRADE_FIGURE} was drawn from other results ({entry['rows']} rows) than "
+        f"out/trade/results.csv holds now ({now['rows']} rows): the sweep changed, {RERUN} (or "
+        "out/trade holds another grid, such as --grid full: move it aside)"
+    )
