@@ -345,13 +345,21 @@ class UnitTB:
         self.dut.start.value = 0
 
 
-async def random_strobes(tb: UnitTB, cycles: int, seed: int) -> Stats:
-    """Drive the soak's random stimulus (sim/soak.py) cycle by cycle through the unit.
+# Cycles of each bench's random-strobe test (BENCH_STROBE_CYCLES overrides; the vector soak
+# runs 100k).
+STROBE_CYCLES = 3000
+
+
+async def random_strobes(tb: UnitTB, cycles: int | None = None) -> Stats:
+    """Drive the soak's random stimulus (sim/soak.py) cycle by cycle through the unit, then
+    finish the monitor (rules 1-7 checked in every cycle).
 
     Every strobe and start at random, writes in start and busy cycles, values across 0 and at
-    the extremes, short random resets; the monitor checks every output in every cycle.
+    the extremes, short random resets; the seed is the bench's (``BENCH_SEED``).
     """
-    for inputs in soak.stimulus(tb.monitor.cfg, cycles, seed):
+    if cycles is None:
+        cycles = int(os.environ.get("BENCH_STROBE_CYCLES", STROBE_CYCLES))
+    for inputs in soak.stimulus(tb.monitor.cfg, cycles, bench_seed()):
         tb.dut.rst_n.value = inputs["rst_n"]
         tb.dut.start.value = inputs["start"]
         for port in tb.monitor.spec.operands:
@@ -363,4 +371,6 @@ async def random_strobes(tb: UnitTB, cycles: int, seed: int) -> Stats:
     tb.release_strobes()
     tb.dut.rst_n.value = 1
     await tb.monitor.wait_idle()
-    return tb.monitor.stats
+    stats = tb.monitor.stats
+    assert stats.writes_at_start > 0 and stats.writes_ignored > 0 and stats.starts_ignored > 0
+    return tb.monitor.finish("random_strobes")

@@ -2,16 +2,14 @@
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import pytest
 
 from model.units import divider
-from sim.runner import hdl_parameters, run_bench
+from sim.runner import SIM_BUILD, hdl_parameters, run_bench
+from tests import mutants
 from tests.conftest import record_sim
 
 pytestmark = pytest.mark.sim
-MUTANTS = Path(__file__).resolve().parent / "mutants"
 
 
 @pytest.mark.parametrize("name", ["article", "n4", "n16", "default"])
@@ -36,7 +34,7 @@ def test_bench_finds_the_div_zero_leak(request) -> None:
         params,
         cfg,
         testcase=["test_random_strobes", "test_write_in_start_cycle"],
-        rtl=MUTANTS / "divider_shift_div_zero_leak.v",
+        rtl=mutants.build("divider_shift_div_zero_leak", SIM_BUILD / "mutants"),
         expect_failure=True,
     )
     errors = {r["test"]: r["errors"] for r in records}
@@ -57,7 +55,7 @@ def test_stuck_busy_fails_instead_of_hanging(request) -> None:
         params,
         cfg,
         testcase="test_extremes",
-        rtl=MUTANTS / "divider_shift_busy_stuck.v",
+        rtl=mutants.build("divider_shift_busy_stuck", SIM_BUILD / "mutants"),
         expect_failure=True,
     )
     assert records == [], records  # the test failed before it could finish its summary

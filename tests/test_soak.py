@@ -16,11 +16,11 @@ import pytest
 from model.units import divider, gouraud, specular
 from sim import soak
 from sim.runner import SIM_BUILD, env_seed, unit_parameters
+from tests import mutants
 from tests.conftest import record_sim
 
 pytestmark = pytest.mark.sim
 
-MUTANTS = Path(__file__).resolve().parent / "mutants"
 SOAK_CYCLES = 100_000
 SHORT_SOAK = 20_000
 
@@ -87,7 +87,7 @@ def test_soak_finds_the_div_zero_leak(request) -> None:
         seed,
         SIM_BUILD / "soak_divider_mutant",
         unit_parameters(cfg),
-        rtl=MUTANTS / "divider_shift_div_zero_leak.v",
+        rtl=mutants.build("divider_shift_div_zero_leak", SIM_BUILD / "mutants"),
     )
     assert result.mismatch_count > 0, f"the mutant passed the soak (SOAK_SEED={seed})"
     assert all(": div_zero = " in m for m in result.mismatches), result.mismatches
@@ -104,3 +104,13 @@ def test_vector_words_round_trip() -> None:
             word, mask = soak.pack(fields, inputs)
             assert mask == (1 << soak.width(fields)) - 1
             assert soak.unpack(fields, word) == inputs
+
+
+@pytest.mark.parametrize("name", list(mutants.MUTANTS))
+def test_every_mutant_is_one_change_to_the_current_rtl(name: str, tmp_path: Path) -> None:
+    """A mutant differs from its RTL file in exactly the one marked line."""
+    path = mutants.build(name, tmp_path)
+    rtl = (soak.RTL_DIR / f"{mutants.MUTANTS[name].unit}.v").read_text().splitlines()
+    got = path.read_text().splitlines()
+    changed = [(a, b) for a, b in zip(rtl, got, strict=True) if a != b]
+    assert len(changed) == 1 and "MUTANT" in changed[0][1], changed

@@ -1,0 +1,60 @@
+"""Saved mutants: the current RTL with one known defect put in, to prove the benches find it.
+
+Each mutant is the unit's file from ``rtl/`` with one exact snippet replaced, made afresh for
+every run (``build``), so it always follows the RTL and shares its ROM checks; if the snippet
+is no longer in the RTL exactly once, ``build`` fails instead of testing a stale copy.
+
+* ``divider_shift_div_zero_leak``: the defect the release before issue 11 shipped: div_zero is
+  taken from the k register when the result is written, so a k write in the start cycle
+  (accepted for the next division) leaks into the running division's flag.  The vector soak
+  (tests/test_soak.py) and the cocotb bench (tests/test_sim_divider.py) must fail on it,
+  naming div_zero.
+* ``divider_shift_busy_stuck``: busy never falls once a division starts.  The cocotb bench
+  must fail on it in bounded time (the watchdog of ``ProtocolMonitor.wait_idle``), not hang.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from sim.runner import RTL_DIR
+
+
+@dataclass(frozen=True)
+class Mutant:
+    unit: str  # the rtl/<unit>.v it is made from (its module name stays the same)
+    original: str
+    replacement: str
+
+
+MUTANTS = {
+    "divider_shift_div_zero_leak": Mutant(
+        "divider_shift",
+        "            div_zero_reg <= run_zero_reg;\n",
+        "            div_zero_reg <= k_zero_reg;  // MUTANT: the k register at result time\n",
+    ),
+    "divider_shift_busy_stuck": Mutant(
+        "divider_shift",
+        "            // The remaining reciprocal bits are all zero: the quotient is complete\n"
+        "            busy_reg <= 1'b0;\n",
+        "            // The remaining reciprocal bits are all zero: the quotient is complete\n"
+        "            busy_reg <= 1'b1;  // MUTANT: busy never falls\n",
+    ),
+}
+
+
+def build(name: str, folder: Path) -> Path:
+    """Write mutant ``name`` as ``folder/<name>.v`` and return its path."""
+    mutant = MUTANTS[name]
+    source = (RTL_DIR / f"{mutant.unit}.v").read_text()
+    count = source.count(mutant.original)
+    if count != 1:
+        raise AssertionError(
+            f"mutant {name}: its snippet occurs {count} times in rtl/{mutant.unit}.v, "
+            "expected once: update tests/mutants/__init__.py to the RTL"
+        )
+    folder.mkdir(parents=True, exist_ok=True)
+    path = folder / f"{name}.v"
+    path.write_text(source.replace(mutant.original, mutant.replacement))
+    return path
