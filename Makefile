@@ -25,7 +25,7 @@ data/teapot.bez:
 	scripts/fetch-teapot.sh
 
 tools:
-	@scripts/ensure-tools.sh iverilog vvp
+	@scripts/ensure-tools.sh iverilog vvp verilator
 
 demo: setup tools
 	$(PY) -m model demo

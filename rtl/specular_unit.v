@@ -38,6 +38,14 @@
  *
  * Documentation: docs/specular.md (ports, formats, parameters, timing, accuracy, the contract
  * and its tests); docs/architecture.md (the protocol, the ROM image format, the benches).
+ *
+ * Why this file is long (about 790 lines; the datapath itself is the last ~190): one module
+ * per file, and Verilog-2005 has no packages to put the rest in.  The section "parameter
+ * check" (about 250 lines) re-derives the model's legal set at elaboration (the largest and
+ * smallest a of the k ranges, with constant functions) so that every tool refuses exactly what
+ * model.units.specular refuses; the section "ROM image check" (about 200 lines) checks the
+ * two ROM images at time 0 in simulation (`ifndef SYNTHESIS).  The ROM-image check repeats the divider's in shape (one
+ * per image); an include file shared by both would need an include path in every tool flow.
  */
 
 `resetall

@@ -11,7 +11,12 @@ if [ "$(id -u)" -eq 0 ] && command -v apt-get >/dev/null 2>&1; then
   echo "Installing ${missing[*]} with apt-get ..."
   export DEBIAN_FRONTEND=noninteractive
   apt-get update -qq
-  apt-get install -y -qq "${missing[@]}" >/dev/null
+  # Debian package of each tool (vvp comes with iverilog)
+  packages=()
+  for tool in "${missing[@]}"; do
+    case "$tool" in vvp) packages+=(iverilog) ;; *) packages+=("$tool") ;; esac
+  done
+  apt-get install -y -qq "${packages[@]}" >/dev/null
   for tool in "${missing[@]}"; do
     command -v "$tool" >/dev/null 2>&1 || { echo "error: apt-get did not provide $tool" >&2; exit 1; }
   done

@@ -10,7 +10,6 @@ a message and a non-zero exit status: under a plain ``iverilog``/``vvp`` run and
 from __future__ import annotations
 
 import re
-import shutil
 import subprocess
 from pathlib import Path
 
@@ -179,9 +178,6 @@ def test_format_image_refuses_words_that_do_not_fit() -> None:
 
 
 # ==================================================================== the RTL, at time 0
-needs_icarus = pytest.mark.skipif(
-    shutil.which("iverilog") is None or shutil.which("vvp") is None, reason="Icarus not installed"
-)
 
 
 def _simulate(unit: str, params: dict[str, object], work: Path) -> tuple[int, str]:
@@ -226,7 +222,6 @@ DIVIDER_IMAGES = [
 ]
 
 
-@needs_icarus
 def test_rtl_runs_with_its_own_image(tmp_path: Path) -> None:
     for cfg in (ARTICLE, divider.DEFAULT):
         status, output = _simulate(
@@ -238,7 +233,6 @@ def test_rtl_runs_with_its_own_image(tmp_path: Path) -> None:
         assert status == 0 and "ROM" not in output, output
 
 
-@needs_icarus
 @pytest.mark.parametrize(
     ("name", "cfg", "text", "needle"), DIVIDER_IMAGES, ids=[d[0] for d in DIVIDER_IMAGES]
 )
@@ -283,7 +277,6 @@ SPECULAR_IMAGES = [
 ]
 
 
-@needs_icarus
 @pytest.mark.parametrize(
     ("name", "cfg", "change", "needle"), SPECULAR_IMAGES, ids=[s[0] for s in SPECULAR_IMAGES]
 )
@@ -297,7 +290,6 @@ def test_rtl_stops_on_a_bad_specular_image(
     assert re.search(r"FATAL: .*bad ROM image", output), output
 
 
-@needs_icarus
 @pytest.mark.sim
 def test_cocotb_run_stops_on_a_bad_image(capfd) -> None:
     """Under cocotb the time-0 check ends vvp with status 1: the runner raises, every test
