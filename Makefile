@@ -63,9 +63,11 @@ accuracy: setup
 	$(PY) -m model accuracy
 
 # Pixels per second of the bit-exact pipeline against the float references (one run, ratios),
-# then of the RTL scene co-simulation (sphere 64 x 64 through the three units under Icarus).
+# the seconds a 70k-triangle mesh file takes to load in each format (target: under 2 s), then the
+# RTL scene co-simulation (sphere 64 x 64 through the three units under Icarus).
 bench: setup tools
 	$(PY) -m model bench
+	$(PY) -m model bench-load
 	$(PY) -m sim bench
 
 # The speed/accuracy trade: sweep every knob over the built-in scenes (Dask; cached, resumable).

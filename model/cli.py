@@ -6,6 +6,7 @@ Commands:
                   in out/, the comparison table
   bench           pixels per second of the bit-exact pipeline against the float references (the
                   RTL co-simulation's speed is ``python -m sim bench``; ``make bench`` runs both)
+  bench-load      seconds to load a 70k-triangle mesh file in each format (``make bench``)
   trade           the speed/accuracy trade study: every knob swept over the scenes on Dask,
                   cached and resumable; CSV, markdown and Pareto plots in out/trade/
   accuracy        every accuracy figure of the README, each a worst case (exhaustive or
@@ -18,18 +19,16 @@ Commands:
 from __future__ import annotations
 
 import argparse
-import functools
-import math
 import sys
 import time
 from pathlib import Path
 
-from model.render import meshes, scene
+from model.render import meshfile, scenefile
 from model.units import divider, specular
 from model.units.fixed import format_up
 
 PROG = "shading"
-SCENES = list(meshes.SCENE_NAMES)
+SCENES = list(scenefile.SCENE_NAMES)
 
 
 def divider_table1(recip_bits: int = 8, dividend: int = 255) -> list[dict]:
@@ -116,70 +115,23 @@ def write_roms() -> None:
         print(f"wrote {path}")
 
 
-# ---------------------------------------------------------------------- scenes: a name or a mesh
-@functools.lru_cache(maxsize=4)
-def load_mesh(path: Path) -> scene.Mesh:
-    """``meshes.load_mesh``, once per file: the argument check loads it, the command reuses it."""
-    return meshes.load_mesh(path)
+# ---------------------------------------------------------------------- scenes: a name or a file
+def scene_notes(source: scenefile.SceneSource) -> list[str]:
+    """What the command prints about where its scene came from: a mesh file's one-line summary
+    (its repairs and up axis)."""
+    return [source.read().summary()] if source.kind == "mesh" else []
 
 
-def scene_for(source: str | Path, size: int) -> scene.Scene:
-    """A built-in scene by name, or a mesh file framed by ``meshes.scene_from_mesh`` (its default
-    material, camera and light), ``size`` x ``size``."""
-    if isinstance(source, Path):
-        return meshes.scene_from_mesh(load_mesh(source), width=size, height=size)
-    return meshes.builtin_scene(source, size, size)
-
-
-def run_methods(source: str | Path, size: int, **kwargs):
-    """``report.run_methods`` on a built-in scene or on a mesh file.
-
-    ``report.run_methods`` takes a built-in scene's name; a mesh file's scene is shaded here with
-    the same steps (one raster, every method, each compared with (a), best of ``repeats``)."""
-    from tqdm import tqdm
-
-    from model.render import raster, reference, shade
-    from model.study import metrics, report
-
-    if not isinstance(source, Path):
-        return report.run_methods(source, size, **kwargs)
-    methods = list(kwargs.get("methods") or report.METHOD_LABELS)
-    repeats, progress = kwargs.get("repeats", 1), kwargs.get("progress", False)
-    sc = scene_for(source, size)
-    frame_raster = raster.rasterise(sc)
-    ref = shade.shade(frame_raster, reference.exact_blinn)
-    highlight = metrics.highlight_mask(ref.specular)
-    results = {}
-    for name in tqdm(methods, desc=f"{sc.name} {size}x{size}", disable=not progress):
-        shader = report.shader_for(name)
-        shade.shade(frame_raster, shader)  # warm-up: numba compiles on the first call
-        best, frame = math.inf, None
-        for _ in range(max(1, repeats)):
-            frame = shade.shade(frame_raster, shader)
-            best = min(best, frame.stats.shade_seconds)
-        results[name] = report.MethodResult(
-            name=name,
-            label=report.METHOD_LABELS.get(name, name),
-            frame=frame,
-            comparison=metrics.compare(frame.rgb, ref.rgb, highlight=highlight),
-            seconds=best,
-            table_bits=report.table_bits(name),
-        )
-    return report.SceneRun(sc.name, frame_raster, ref, highlight, results)
-
-
-def scene_label(source: str | Path) -> str:
-    return f"mesh {source}" if isinstance(source, Path) else source
-
-
-def demo(source: str | Path, size: int, out_dir: Path, log_error: bool = False) -> int:
-    """The main job: the scene (a built-in name or a mesh file) through every method, images into
-    ``out_dir``, the table."""
+def demo(source: scenefile.SceneSource, size: int, out_dir: Path, log_error: bool = False) -> int:
+    """The main job: the scene (a built-in name, a scene file or a mesh file) through every
+    method, images into ``out_dir``, the table."""
     from model.study import report
 
     began = time.perf_counter()
-    print(f"== {scene_label(source)}, {size} x {size}: every method against (a) exact Blinn ==")
-    run = run_methods(source, size, progress=True)
+    print(f"== {source.label}, {size} x {size}: every method against (a) exact Blinn ==")
+    for line in scene_notes(source):
+        print(line)
+    run = report.run_methods(source.scene(size, size), progress=True)
     print(report.format_table(run))
     print("\n== What the scene requires of the hardware ==")
     print(report.requirements(run))
@@ -189,15 +141,17 @@ def demo(source: str | Path, size: int, out_dir: Path, log_error: bool = False) 
     return 0
 
 
-def bench(source: str | Path, size: int, repeats: int) -> int:
+def bench(source: scenefile.SceneSource, size: int, repeats: int) -> int:
     """Speed of the bit-exact pipeline against the float references, in one run, as ratios."""
     from model.study import report
 
-    run = run_methods(
-        source, size, methods=["exact", "phong", "hybrid", "adaptive"], repeats=repeats
+    run = report.run_methods(
+        source.scene(size, size),
+        methods=["exact", "phong", "hybrid", "adaptive"],
+        repeats=repeats,
     )
     pps = {name: r.pixels_per_second for name, r in run.results.items()}
-    print(f"== bench: {scene_label(source)} {size} x {size}, best of {repeats} (shading only) ==")
+    print(f"== bench: {source.label} {size} x {size}, best of {repeats} (shading only) ==")
     print("| method | pixels/s | vs (a) exact Blinn | vs (b) Phong |")
     print("|---|---|---|---|")
     for name, value in pps.items():
@@ -232,45 +186,66 @@ def int_in(lo: int, hi: int | None = None):
     return parse
 
 
-def mesh_file(text: str) -> Path:
-    """An argparse ``type``: a mesh file ``meshes.load_mesh`` reads and ``meshes.scene_from_mesh``
-    frames, checked (loaded) while the arguments are parsed, before any work; a bad one is refused
-    as ``argument --mesh: path = 'x.obj' does not exist: legal value is an existing .obj/.ply
-    file`` (exit status 2)."""
-    path = Path(text)
+def scene_arg(text: str) -> scenefile.SceneSource:
+    """An argparse ``type``: a built-in scene's name or a scene file (``scenefile.scene_source``),
+    read while the arguments are parsed; a bad one is refused as ``argument --scene: <file>:
+    camera.fov_y = 500 is out of range: legal range is 1.0..170.0`` (exit status 2)."""
     try:
-        meshes.scene_from_mesh(load_mesh(path), width=8, height=8)
+        return scenefile.scene_source(text)
     except ValueError as exc:
-        why = " ".join(str(exc).split())  # one line, whatever trimesh said
-        if "legal" not in why:
-            why += ": must be an .obj or .ply file holding a triangle mesh"
-        raise argparse.ArgumentTypeError(why) from None
-    return path
+        raise argparse.ArgumentTypeError(" ".join(str(exc).split())) from None
+
+
+def check_mesh(parser: argparse.ArgumentParser, path: str, up: str) -> scenefile.SceneSource:
+    """``--mesh FILE --up AXIS``, read and framed after parsing (the axis is known then), before
+    any work; a bad file is refused by ``parser.error`` in one line (exit status 2)."""
+    try:
+        return scenefile.mesh_source(path, up)
+    except ValueError as exc:
+        parser.error(f"argument --mesh: {' '.join(str(exc).split())}")
+        raise  # parser.error exits
 
 
 # ---------------------------------------------------------------------- the parser
 def _command(sub, name: str, summary: str, examples: str) -> argparse.ArgumentParser:
-    return sub.add_parser(
+    p = sub.add_parser(
         name,
         help=summary,
         description=summary,
         epilog="examples:\n" + examples,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
+    p.set_defaults(command_parser=p)  # its errors read "shading <command>: error: ..."
+    return p
+
+
+def _up(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--up",
+        choices=meshfile.UP_AXES,
+        default="auto",
+        help="the mesh file's up axis, turned to the renderer's +z (default: auto: the "
+        "format's convention, else a flat base, else z)",
+    )
 
 
 def _scene_or_mesh(p: argparse.ArgumentParser) -> None:
     where = p.add_mutually_exclusive_group()
     where.add_argument(
-        "--scene", default="teapot", choices=SCENES, help="a built-in scene (default: teapot)"
+        "--scene",
+        type=scene_arg,
+        default=scenefile.SceneSource("builtin", "teapot"),
+        metavar="NAME|FILE",
+        help=f"a built-in scene ({', '.join(SCENES)}; default: teapot) or a .toml scene file",
     )
     where.add_argument(
         "--mesh",
-        type=mesh_file,
         default=None,
         metavar="FILE",
-        help="an .obj or .ply mesh instead, framed by the default camera, light and material",
+        help="a mesh file instead (" + ", ".join(meshfile.MESH_FORMATS) + "), repaired, "
+        "turned by --up, framed by the default camera, light and material",
     )
+    _up(p)
 
 
 def _size(p: argparse.ArgumentParser, default: int) -> None:
@@ -340,6 +315,28 @@ def build_parser() -> argparse.ArgumentParser:
 
     p = _command(
         sub,
+        "bench-load",
+        "Seconds to load a mesh file of about 70k triangles in each format (OBJ, PLY, OFF, STL, "
+        "GLB), repaired, turned and normalised as --mesh does; target under 2 s each.",
+        "  shading bench-load\n  shading bench-load --triangles 200000 --repeats 1",
+    )
+    p.add_argument(
+        "--triangles",
+        type=int_in(100, 10_000_000),
+        default=70_000,
+        metavar="N",
+        help="about how many triangles, 100..10000000 (default: 70000)",
+    )
+    p.add_argument(
+        "--repeats",
+        type=int_in(1),
+        default=3,
+        metavar="N",
+        help="timed loads per format, >= 1 (default: 3)",
+    )
+
+    p = _command(
+        sub,
         "trade",
         "The speed/accuracy trade: every knob swept over the scenes on Dask (cached, "
         "resumable); CSV, markdown and Pareto plots in --out.",
@@ -349,21 +346,24 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument(
         "--scenes",
+        "--scene",
         nargs="+",
-        choices=SCENES,
+        type=scene_arg,
         default=None,
-        metavar="NAME",
-        help=f"built-in scenes: {', '.join(SCENES)} (default: all of them, unless --mesh)",
+        metavar="NAME|FILE",
+        help=f"built-in scenes ({', '.join(SCENES)}) or .toml scene files (default: every "
+        "built-in scene, unless --mesh)",
     )
     p.add_argument(
         "--mesh",
-        type=mesh_file,
+        type=Path,
         action="append",
         default=[],
         metavar="FILE",
         dest="meshes",
-        help="an .obj or .ply mesh to sweep too (repeatable)",
+        help="a mesh file to sweep too (repeatable; each checked before any work)",
     )
+    _up(p)
     _size(p, 128)
     p.add_argument("--grid", choices=["small", "full"], default="small")
     where = p.add_mutually_exclusive_group()
@@ -424,7 +424,7 @@ def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
     try:
-        return _run(args)
+        return _run(parser, args)
     except Exception as exc:
         from model.study.report import (
             SetupError,  # here: `divider-table` need not import the renderer
@@ -438,11 +438,14 @@ def main(argv: list[str] | None = None) -> int:
         return exc.status
 
 
-def _run(args: argparse.Namespace) -> int:
+def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
     if args.command == "trade":
         from model.study import trade
 
         scenes = args.scenes if args.scenes is not None else ([] if args.meshes else SCENES)
+        scenes = [s.ref if getattr(s, "kind", "") == "builtin" else s for s in scenes]
+        for mesh in args.meshes:  # each read and framed before any work
+            check_mesh(args.command_parser, str(mesh), args.up)
         return trade.main(
             scenes=scenes,
             size=args.size,
@@ -452,16 +455,25 @@ def _run(args: argparse.Namespace) -> int:
             scheduler=args.scheduler,
             figure_dir=args.figure,
             meshes=args.meshes,
+            up=args.up,
         )
     if args.command in ("demo", "bench"):
-        source = args.mesh if args.mesh is not None else args.scene
+        source = args.scene
+        if args.mesh is not None:
+            source = check_mesh(args.command_parser, args.mesh, args.up)
         if args.command == "bench":
             return bench(source, args.size, args.repeats)
         from model.study import report
 
         report.check_output_dir("--out", args.out)
         return demo(source, args.size, args.out, args.log_error)
-    if args.command == "roms":
+    if args.command == "bench-load":
+        from model.study import loading
+
+        head = f"about {args.triangles:,} triangles a file, best of {args.repeats}"
+        print(f"== bench-load: {head} ==")
+        print(loading.format_load_bench(loading.load_bench(args.triangles, args.repeats)))
+    elif args.command == "roms":
         write_roms()
     elif args.command == "divider-table":
         print(format_table1())

@@ -15,9 +15,8 @@ from __future__ import annotations
 import argparse
 import shutil
 import sys
-from pathlib import Path
 
-from model.render import meshes, scene
+from model.render import meshfile, scene, scenefile
 
 PROG = "python -m sim"
 
@@ -34,18 +33,13 @@ def size_type(text: str) -> int:
     return value
 
 
-def mesh_file(text: str) -> scene.Mesh:
-    """An argparse ``type``: a mesh file ``meshes.load_mesh`` reads, loaded while the arguments are
-    parsed (before any work)."""
+def scene_arg(text: str) -> scenefile.SceneSource:
+    """An argparse ``type``: a built-in scene's name or a .toml scene file, read while the
+    arguments are parsed (``scenefile.scene_source``)."""
     try:
-        mesh = meshes.load_mesh(Path(text))
-        meshes.scene_from_mesh(mesh, width=8, height=8)
+        return scenefile.scene_source(text)
     except ValueError as exc:
-        why = " ".join(str(exc).split())  # one line, whatever trimesh said
-        if "legal" not in why:
-            why += ": must be an .obj or .ply file holding a triangle mesh"
-        raise argparse.ArgumentTypeError(why) from None
-    return mesh
+        raise argparse.ArgumentTypeError(" ".join(str(exc).split())) from None
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -74,16 +68,25 @@ def build_parser() -> argparse.ArgumentParser:
     where = p.add_mutually_exclusive_group()
     where.add_argument(
         "--scene",
-        default="sphere",
-        choices=meshes.SCENE_NAMES,
-        help="a built-in scene (default: sphere)",
+        type=scene_arg,
+        default=scenefile.SceneSource("builtin", "sphere"),
+        metavar="NAME|FILE",
+        help=f"a built-in scene ({', '.join(scenefile.SCENE_NAMES)}; default: sphere) or a "
+        ".toml scene file",
     )
     where.add_argument(
         "--mesh",
-        type=mesh_file,
         default=None,
         metavar="FILE",
-        help="an .obj or .ply mesh instead, framed by the default camera, light and material",
+        help="a mesh file instead, turned by --up, framed by the default camera, light and "
+        "material",
+    )
+    p.set_defaults(command_parser=p)  # its errors read "python -m sim bench: error: ..."
+    p.add_argument(
+        "--up",
+        choices=meshfile.UP_AXES,
+        default="auto",
+        help="the mesh file's up axis (default: auto)",
     )
     p.add_argument(
         "--size",
@@ -96,7 +99,7 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def bench(source: str | scene.Mesh, size: int) -> int:
+def bench(source: scenefile.SceneSource, size: int) -> int:
     """The scene through the RTL units and the model: speed, and whether the images are equal."""
     import numpy as np
 
@@ -115,13 +118,7 @@ def bench(source: str | scene.Mesh, size: int) -> int:
             file=sys.stderr,
         )
         return 1
-    if isinstance(source, scene.Mesh):
-        name, target = (
-            f"mesh {source.name}",
-            meshes.scene_from_mesh(source, width=size, height=size),
-        )
-    else:
-        name, target = source, source
+    name, target = source.label, source.scene(size, size)
     print(f"== python -m sim bench: {name}, {size} x {size}, three RTL units under Icarus ==")
     cosim = cosimulate(target, size, tag="scene_bench")
     same = bool(np.array_equal(cosim.rtl_rgb, cosim.model_rgb))
@@ -134,9 +131,16 @@ def bench(source: str | scene.Mesh, size: int) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    source = args.scene
+    if args.mesh is not None:  # read after parsing, when --up is known, before any work
+        try:
+            source = scenefile.mesh_source(args.mesh, args.up)
+        except ValueError as exc:
+            args.command_parser.error(f"argument --mesh: {' '.join(str(exc).split())}")
     # one command today; the subcommand keeps room for more
-    return bench(args.mesh if args.mesh is not None else args.scene, args.size)
+    return bench(source, args.size)
 
 
 if __name__ == "__main__":

@@ -25,7 +25,7 @@ from pathlib import Path
 
 import numpy as np
 
-from model.render import meshes, pipeline, raster, scene, shade
+from model.render import pipeline, raster, scene, scenefile, shade
 from model.render.pipeline import PipelineConfig, UnitJobs
 from model.render.shade import ShadeContext
 from model.render.spans import Spans
@@ -111,13 +111,14 @@ def cosimulate(
 ) -> CosimResult:
     """Render ``scene_name`` at ``size`` x ``size`` through the RTL units and through the model.
 
-    ``scene_name`` is a built-in scene's name, or a ``scene.Scene`` (a mesh file's, from
-    ``meshes.scene_from_mesh``), rendered at its own camera's size (``size`` is then unused)."""
+    ``scene_name`` is a built-in scene's name, or a ``scene.Scene`` (a scene file's or a mesh
+    file's, ``scenefile.SceneSource.scene``), rendered at its own camera's size (``size`` is then
+    unused)."""
     cfg = pipeline.METHODS[method]
     if isinstance(scene_name, scene.Scene):
         frame_scene = scene_name
     else:
-        frame_scene = meshes.builtin_scene(scene_name, size, size)
+        frame_scene = scenefile.builtin_scene(scene_name, size, size)
     frame_raster = raster.rasterise(frame_scene)
     objects = _collect_jobs(frame_raster, cfg)
     result = CosimResult(rtl_rgb=np.zeros(0), model_rgb=np.zeros(0), pixels=0)

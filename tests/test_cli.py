@@ -17,7 +17,16 @@ import pytest
 from model import cli
 from model.cli import main
 
-COMMANDS = ["demo", "bench", "trade", "accuracy", "roms", "divider-table", "divider-trade"]
+COMMANDS = [
+    "demo",
+    "bench",
+    "bench-load",
+    "trade",
+    "accuracy",
+    "roms",
+    "divider-table",
+    "divider-trade",
+]
 
 
 def run_cli(argv: list[str], capsys) -> tuple[int, str, str]:
@@ -145,9 +154,9 @@ def _bad_meshes(tmp_path: Path) -> dict[str, tuple[Path, str]]:
     binary.write_bytes(b"\xff\xfe\x00\x81")
     return {
         "missing": (tmp_path / "missing.obj", "does not exist: legal value is an existing"),
-        "garbage": (garbage, "holds no triangle mesh: must be an .obj or .ply file"),
-        "binary": (binary, "could not be read as a mesh"),
-        "suffix": (tmp_path / "part.stl", "legal mesh files are .obj and .ply"),
+        "garbage": (garbage, "holds no triangle mesh: legal is a file with faces"),
+        "binary": (binary, "could not be read as PLY"),
+        "suffix": (tmp_path / "part.xyz", "legal suffixes are .obj, .ply, .off, .stl, .glb"),
     }
 
 

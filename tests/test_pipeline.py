@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from model.render import meshes, pipeline, raster, reference
+from model.render import pipeline, raster, reference, scenefile
 from model.render.pipeline import METHODS, PipelineConfig
 from model.render.shade import ShadeContext, shade
 from model.render.vectors import LightingParams
@@ -15,7 +15,7 @@ from model.units import divider, gouraud, specular
 
 @pytest.fixture(scope="module")
 def sphere_raster() -> raster.Raster:
-    return raster.rasterise(meshes.builtin_scene("sphere", 64, 64))
+    return raster.rasterise(scenefile.builtin_scene("sphere", 64, 64))
 
 
 def _object_jobs(r: raster.Raster, cfg: PipelineConfig):
@@ -76,7 +76,7 @@ def test_assemble_sums_and_saturates() -> None:
 @pytest.mark.parametrize("name", ["sphere", "torus", "teapot", "quad"])
 def test_hybrid_is_visually_identical_to_exact_blinn(name: str) -> None:
     """The thesis's criterion: NMSE <= 0.00025 against the accuracy reference (a)."""
-    r = raster.rasterise(meshes.builtin_scene(name, 128, 128))
+    r = raster.rasterise(scenefile.builtin_scene(name, 128, 128))
     ref = shade(r, reference.exact_blinn).rgb
     hybrid = shade(r, pipeline.unit_shader(METHODS["hybrid"])).rgb
     assert metrics.nmse(hybrid, ref) <= metrics.NMSE_VISUALLY_IDENTICAL

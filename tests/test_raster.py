@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from model.render import meshes, reference
+from model.render import reference, scenefile
 from model.render.raster import rasterise, screen_spans
 from model.render.scene import Camera, Light, Material, Mesh, Scene, SceneObject
 from model.render.shade import ShadeResult, per_span, render, shade
@@ -234,7 +234,7 @@ def test_triangles_behind_the_eye_are_dropped() -> None:
 
 
 def test_span_ends_are_unit_and_consistent() -> None:
-    sc = meshes.builtin_scene("torus", 96, 96)
+    sc = scenefile.builtin_scene("torus", 96, 96)
     spans = rasterise(sc).objects[0].spans
     assert len(spans) > 100
     assert np.all(spans.x_start <= spans.x_end)
@@ -329,7 +329,7 @@ def test_slerp_broadcasts() -> None:
 
 
 def test_per_span_adaptor_equals_batch_shader() -> None:
-    sc = meshes.builtin_scene("sphere", 48, 48)
+    sc = scenefile.builtin_scene("sphere", 48, 48)
     r = rasterise(sc)
 
     def one(span, ctx):
@@ -360,7 +360,7 @@ def test_bad_shader_output_is_refused() -> None:
 
 
 def test_stats() -> None:
-    sc = meshes.builtin_scene("quad", 64, 64)
+    sc = scenefile.builtin_scene("quad", 64, 64)
     frame = render(sc, reference.exact_blinn)
     st_ = frame.stats
     assert st_.n_values == (1000,)

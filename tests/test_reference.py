@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from model.render import meshes, reference
+from model.render import reference, scenefile
 from model.render.raster import rasterise
 from model.render.reference import (
     highlight_threshold,
@@ -68,7 +68,7 @@ def test_exact_and_phong_with_a_point_light() -> None:
 
 
 def test_exact_blinn_on_one_span_matches_the_formula() -> None:
-    sc = meshes.builtin_scene("torus", 64, 64)
+    sc = scenefile.builtin_scene("torus", 64, 64)
     r = rasterise(sc)
     spans = r.objects[0].spans
     i = int(np.argmax(spans.lengths))
@@ -91,7 +91,7 @@ def test_exact_blinn_on_one_span_matches_the_formula() -> None:
 
 
 def test_one_pixel_span_uses_the_start_values() -> None:
-    sc = meshes.builtin_scene("sphere", 64, 64)
+    sc = scenefile.builtin_scene("sphere", 64, 64)
     spans = rasterise(sc).objects[0].spans
     ones = spans.select(spans.lengths == 1)
     assert len(ones) > 0
@@ -102,7 +102,7 @@ def test_one_pixel_span_uses_the_start_values() -> None:
 
 
 def test_gouraud_float_interpolates_vertex_values() -> None:
-    sc = meshes.builtin_scene("sphere", 64, 64)
+    sc = scenefile.builtin_scene("sphere", 64, 64)
     r = rasterise(sc)
     spans = r.objects[0].spans
     ctx = ShadeContext(sc, 0, sc.objects[0].material, LightingParams.of(sc))
@@ -113,9 +113,9 @@ def test_gouraud_float_interpolates_vertex_values() -> None:
     np.testing.assert_allclose(spec[lo], spans.s_start)
 
 
-@pytest.mark.parametrize("name", meshes.SCENE_NAMES)
+@pytest.mark.parametrize("name", scenefile.SCENE_NAMES)
 def test_builtin_scenes_show_a_highlight_and_the_references_differ_sensibly(name) -> None:
-    sc = meshes.builtin_scene(name, 96, 96)
+    sc = scenefile.builtin_scene(name, 96, 96)
     r = rasterise(sc)
     a = shade(r, reference.exact_blinn)
     b = shade(r, reference.phong)
@@ -128,7 +128,7 @@ def test_builtin_scenes_show_a_highlight_and_the_references_differ_sensibly(name
 
 
 def test_float_levels_rejects_unknown_method() -> None:
-    sc = meshes.builtin_scene("sphere", 16, 16)
+    sc = scenefile.builtin_scene("sphere", 16, 16)
     spans = rasterise(sc).objects[0].spans
     ctx = ShadeContext(sc, 0, sc.objects[0].material, LightingParams.of(sc))
     with pytest.raises(ValueError, match="method = 'x' is not legal"):
@@ -200,9 +200,9 @@ def test_highlight_test_is_exact_for_a_constant_h(coords, n, thr) -> None:
         assert may  # conservative: a reachable highlight is never missed
 
 
-@pytest.mark.parametrize("name", meshes.SCENE_NAMES)
+@pytest.mark.parametrize("name", scenefile.SCENE_NAMES)
 def test_no_visible_highlight_lies_in_a_triangle_flagged_without_one(name) -> None:
-    sc = meshes.builtin_scene(name, 128, 128)
+    sc = scenefile.builtin_scene(name, 128, 128)
     flags = reference.object_highlight_flags(sc, 0, levels=0.5)
     frame = render(sc, reference.exact_blinn)
     covered = frame.tri_id >= 0

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from model.render import meshes
+from model.render import meshes, meshfile, scenefile
 from model.render.scene import Camera, Light, Material, Mesh, Scene, SceneObject
 
 
@@ -40,9 +40,9 @@ def _face_normal_agreement(mesh: Mesh) -> float:
     return float(np.mean(np.einsum("tk,tk->t", fn, vn) > 0))
 
 
-@pytest.mark.parametrize("name", meshes.SCENE_NAMES)
+@pytest.mark.parametrize("name", scenefile.SCENE_NAMES)
 def test_builtin_scenes_are_valid(name: str, teapot_file) -> None:
-    sc = meshes.builtin_scene(name, width=64, height=48)
+    sc = scenefile.builtin_scene(name, width=64, height=48)
     assert sc.camera.width == 64 and sc.camera.height == 48
     assert sc.name == name
     for obj in sc.objects:
@@ -54,7 +54,7 @@ def test_builtin_scenes_are_valid(name: str, teapot_file) -> None:
 
 
 def test_quad_scene_has_a_tight_highlight_exponent() -> None:
-    sc = meshes.builtin_scene("quad")
+    sc = scenefile.builtin_scene("quad")
     assert sc.objects[0].material.n >= 900
     lo, hi = sc.objects[0].mesh.bounds()
     assert (hi - lo)[:2].min() >= 3.0  # large
@@ -139,7 +139,7 @@ def test_mesh_file_round_trip_keeps_normals(tmp_path, ext: str) -> None:
     tm = _small_trimesh(with_normals=True)
     path = tmp_path / f"m.{ext}"
     tm.export(path, **({"include_normals": True} if ext == "obj" else {"vertex_normal": True}))
-    mesh = meshes.load_mesh(path)
+    mesh = meshfile.load_mesh(path)
     np.testing.assert_allclose(mesh.vertices, tm.vertices, atol=1e-6)
     np.testing.assert_array_equal(mesh.triangles, tm.faces)
     np.testing.assert_allclose(mesh.normals, tm.vertex_normals, atol=1e-6)
@@ -151,7 +151,7 @@ def test_mesh_file_without_normals_gets_trimesh_normals(tmp_path, ext: str) -> N
     tm = _small_trimesh(with_normals=False)
     path = tmp_path / f"m.{ext}"
     tm.export(path)
-    mesh = meshes.load_mesh(path)
+    mesh = meshfile.load_mesh(path)
     _check_mesh(mesh)
     assert np.all(mesh.normals[:, 2] > 0.9)  # the faces face +z
     # a scene around the loaded mesh renders
@@ -161,9 +161,9 @@ def test_mesh_file_without_normals_gets_trimesh_normals(tmp_path, ext: str) -> N
 
 def test_load_mesh_bad_input(tmp_path) -> None:
     with pytest.raises(ValueError, match="does not exist"):
-        meshes.load_mesh(tmp_path / "missing.obj")
-    with pytest.raises(ValueError, match=r"legal mesh files are \.obj and \.ply"):
-        meshes.load_mesh(tmp_path / "m.stl")
+        meshfile.load_mesh(tmp_path / "missing.obj")
+    with pytest.raises(ValueError, match=r"legal suffixes are \.obj, \.ply, \.off, \.stl"):
+        meshfile.load_mesh(tmp_path / "m.xyz")
     with pytest.raises(ValueError, match="fetch-teapot"):
         meshes.read_bezier_patches(tmp_path / "none.bez")
     bad = tmp_path / "bad.bez"
@@ -175,7 +175,7 @@ def test_load_mesh_bad_input(tmp_path) -> None:
 @pytest.mark.parametrize(
     ("make", "pattern"),
     [
-        (lambda: meshes.builtin_scene("cube"), r"name = 'cube' is not legal: legal values are"),
+        (lambda: scenefile.builtin_scene("cube"), r"name = 'cube' is not legal: legal values are"),
         (lambda: Material(n=0), r"n = 0 is out of range: legal range is 1\.\.1000"),
         (lambda: Material(n=1001), r"n = 1001 is out of range: legal range is 1\.\.1000"),
         (lambda: Material(n=2.5), r"n = 2\.5 must be an integer"),
@@ -183,7 +183,7 @@ def test_load_mesh_bad_input(tmp_path) -> None:
         (lambda: Material(colour=(1, 2, 0)), r"colour\[1\] = 2 is out of range"),
         (lambda: Camera(width=0), r"width = 0 is out of range: legal range is 1\.\.4096"),
         (lambda: Camera(height=100000), r"height = 100000 is out of range"),
-        (lambda: meshes.builtin_scene("sphere", width=-5), r"width = -5 is out of range"),
+        (lambda: scenefile.builtin_scene("sphere", width=-5), r"width = -5 is out of range"),
         (lambda: Camera(eye=(1, 1, 1), target=(1, 1, 1)), r"cannot be normalised"),
         (lambda: Camera(eye=(0, 0, 5), target=(0, 0, 0), up=(0, 0, 1)), r"parallel"),
         (lambda: Camera(fov_y=180), r"fov_y = 180 is out of range"),

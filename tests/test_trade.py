@@ -8,7 +8,7 @@ import hashlib
 import numpy as np
 import pytest
 
-from model.render import pipeline
+from model.render import pipeline, scenefile
 from model.study import trade
 from model.units import divider, gouraud, specular
 
@@ -309,23 +309,29 @@ def _write_mesh(path, subdivisions: int = 1, radius: float = 1.0):
     return path
 
 
+def mesh_key(path, up: str = "auto") -> str:
+    return scenefile.SceneSource("mesh", str(path), up).key()
+
+
 def test_mesh_scene_key_follows_the_content(tmp_path):
     mesh = _write_mesh(tmp_path / "ico.obj")
-    key = trade.mesh_key(mesh)
-    assert key == f"mesh:ico.obj@{hashlib.sha1(mesh.read_bytes()).hexdigest()[:12]}"
+    key = mesh_key(mesh)
+    digest = hashlib.sha1(mesh.read_bytes() + b"up=auto").hexdigest()[:12]
+    assert key == f"mesh:ico.obj@{digest}"
+    assert mesh_key(mesh, "y") != key  # the up axis turns the scene: another key
     p = trade.TradePoint(scene=key, size=16)  # a legal scene, in the key like any other field
     assert p.key != trade.TradePoint(scene="sphere", size=16).key
     other = tmp_path / "other"
     other.mkdir()
-    assert trade.mesh_key(_write_mesh(other / "ico.obj")) == key  # same name and content
-    assert trade.mesh_key(_write_mesh(other / "ico.obj", radius=2.0)) != key
-    sc = trade.point_scene(p, {key: mesh})
+    assert mesh_key(_write_mesh(other / "ico.obj")) == key  # same name and content
+    assert mesh_key(_write_mesh(other / "ico.obj", radius=2.0)) != key
+    sc = trade.point_scene(p, {key: scenefile.SceneSource("mesh", str(mesh))})
     assert (sc.camera.width, sc.camera.height, sc.n_triangles) == (16, 16, 80)
     with pytest.raises(ValueError, match=r"is now 'mesh:ico.obj@.*it changed"):
-        trade.point_scene(p, {key: other / "ico.obj"})
+        trade.point_scene(p, {key: scenefile.SceneSource("mesh", str(other / "ico.obj"))})
     with pytest.raises(ValueError, match="no file was given"):
         trade.point_scene(p)
-    with pytest.raises(ValueError, match=r"scene = 'mesh:ico.obj' is not legal.*mesh key"):
+    with pytest.raises(ValueError, match=r"scene = 'mesh:ico.obj' is not legal.*file key"):
         trade.TradePoint(scene="mesh:ico.obj")
 
 
@@ -338,7 +344,7 @@ def test_trade_sweeps_a_mesh_like_a_builtin_scene(tmp_path, monkeypatch, capsys)
     import csv
 
     mesh = _write_mesh(tmp_path / "ico.obj", subdivisions=2)
-    key = trade.mesh_key(mesh)
+    key = mesh_key(mesh)
     monkeypatch.setattr(trade, "grid_points", _one_config)
     out = tmp_path / "out"
     run = {"size": 16, "out_dir": out, "workers": 0, "repeats": 1}
@@ -366,7 +372,7 @@ def test_unreadable_mesh_is_refused_before_any_work(tmp_path, monkeypatch):
     garbage.write_text("this is not a mesh\n")
     folder = tmp_path / "folder.obj"
     folder.mkdir()
-    cases = [tmp_path / "missing.obj", garbage, folder, _write_mesh(tmp_path / "m.stl")]
+    cases = [tmp_path / "missing.obj", garbage, folder, tmp_path / "m.xyz"]
     for bad in cases:
         with pytest.raises(trade.SetupError) as err:
             trade.main(["sphere"], size=16, out_dir=tmp_path / "out", meshes=[bad])

@@ -1,18 +1,16 @@
-"""Meshes and the built-in scenes: OBJ/PLY files through trimesh, the sphere, torus and domed
-quad, the Utah teapot, and a camera and light that frame any mesh.
+"""Meshes the renderer builds: the sphere, torus and domed quad, the Utah teapot, and a camera and
+light that frame any mesh.
 
-Owns ``load_mesh`` and ``mesh_from_trimesh``, the shape builders (``sphere_mesh``, ``torus_mesh``,
-``domed_quad_mesh``, ``weld``), the teapot (``read_bezier_patches``, ``tessellate_patches``,
-``teapot_mesh``, ``TEAPOT_*`` and the folder of the fetched data, ``DATA_DIR``),
-``scene_from_mesh`` and ``builtin_scene`` with ``SCENE_NAMES``.  May import numpy, trimesh and
-``model.render.scene``.
+Owns the shape builders (``sphere_mesh``, ``torus_mesh``, ``domed_quad_mesh``, ``weld``), the
+teapot (``read_bezier_patches``, ``tessellate_patches``, ``teapot_mesh``, ``TEAPOT_*`` and the
+folder of the fetched data, ``DATA_DIR``), ``frame_camera`` and ``scene_from_mesh``.  May import
+numpy, trimesh and ``model.render.scene``.  Mesh files are ``model.render.meshfile``; the
+built-in scenes, files themselves, are ``model.render.scenefile``.
 
-The built-in scenes (``builtin_scene(name)``, names in ``SCENE_NAMES``): "sphere", "torus",
-"teapot" (the Utah teapot's 28 bicubic Bezier patches from Debian's geomview package, fetched by
-``scripts/fetch-teapot.sh`` into ``data/teapot.bez`` and tessellated here) and "quad" (a large,
-gently domed quad with n = 1000 under a nearby point light: one tight highlight).  The geomview
-teapot has no bottom patches: its base is open (invisible from the default camera, which looks
-from above); the tessellation is manifold, consistently wound and oriented outwards.
+The teapot is the Utah teapot's 28 bicubic Bezier patches from Debian's geomview package,
+fetched by ``scripts/fetch-teapot.sh`` into ``data/teapot.bez`` and tessellated here.  The
+geomview teapot has no bottom patches: its base is open (invisible from the default camera, which
+looks from above); the tessellation is manifold, consistently wound and oriented outwards.
 """
 
 from __future__ import annotations
@@ -26,14 +24,12 @@ import numpy as np
 from model.render.scene import (
     DEFAULT_HEIGHT,
     DEFAULT_WIDTH,
-    MAX_RESOLUTION,
     Camera,
     Light,
     Material,
     Mesh,
     Scene,
     SceneObject,
-    check_choice,
     check_int,
     check_range,
     unit3,
@@ -46,58 +42,8 @@ TEAPOT_PATH = DATA_DIR / "teapot.bez"
 TEAPOT_FETCH = "scripts/fetch-teapot.sh"
 TEAPOT_PATCHES = 28
 
-SCENE_NAMES = ("sphere", "torus", "teapot", "quad")
-
-
 # ------------------------------------------------------------------------------------------------
 # meshes from files (trimesh) and from shapes
-
-
-def _quiet_trimesh() -> None:
-    import logging
-
-    # Without scipy trimesh logs a harmless "falling back" message when it computes normals.
-    logging.getLogger("trimesh").setLevel(logging.ERROR)
-
-
-def mesh_from_trimesh(tm, name: str = "mesh") -> Mesh:
-    """A ``Mesh`` from a ``trimesh.Trimesh``: its vertex normals (the loaded ones when the file
-    had them, otherwise trimesh's angle-weighted face normals)."""
-    _quiet_trimesh()
-    return Mesh(
-        np.asarray(tm.vertices, dtype=np.float64),
-        np.asarray(tm.faces, dtype=np.int64),
-        np.asarray(tm.vertex_normals, dtype=np.float64),
-        name=name,
-    )
-
-
-def load_mesh(path: str | Path) -> Mesh:
-    """Load an OBJ or PLY mesh with trimesh (faces triangulated by trimesh).
-
-    The vertex normals are the file's when it has them (OBJ ``vn``, PLY ``nx ny nz``), otherwise
-    trimesh computes them.  A file holding several meshes is concatenated into one.
-    """
-    import trimesh
-
-    _quiet_trimesh()
-    p = Path(path)
-    if p.suffix.lower() not in (".obj", ".ply"):
-        raise ValueError(f"path = '{p}' is not legal: legal mesh files are .obj and .ply")
-    if not p.is_file():
-        raise ValueError(f"path = '{p}' does not exist: legal value is an existing .obj/.ply file")
-    try:
-        loaded = trimesh.load(str(p), process=False)
-    except Exception as exc:  # trimesh raises many types for a broken file
-        raise ValueError(f"path = '{p}' could not be read as a mesh: {exc}") from exc
-    if isinstance(loaded, trimesh.Scene):
-        parts = [g for g in loaded.dump() if isinstance(g, trimesh.Trimesh)]
-        if not parts:
-            raise ValueError(f"path = '{p}' holds no triangle mesh")
-        loaded = trimesh.util.concatenate(parts) if len(parts) > 1 else parts[0]
-    if not isinstance(loaded, trimesh.Trimesh) or len(loaded.faces) == 0:
-        raise ValueError(f"path = '{p}' holds no triangle mesh")
-    return mesh_from_trimesh(loaded, name=p.stem)
 
 
 def sphere_mesh(radius: float = 1.0, subdivisions: int = 3) -> Mesh:
@@ -311,10 +257,10 @@ def teapot_mesh(steps: int = 10, path: str | Path = TEAPOT_PATH) -> Mesh:
 
 
 # ------------------------------------------------------------------------------------------------
-# built-in scenes
+# framing
 
 
-def _camera_looking_at(
+def frame_camera(
     points: np.ndarray, direction, width: int, height: int, fov_y: float = 35.0, fill: float = 0.9
 ) -> Camera:
     """A camera on ``direction`` from the centre of the points' bounding box, at the distance
@@ -354,47 +300,6 @@ def scene_from_mesh(
 ) -> Scene:
     """A scene that frames one mesh: camera from the front-right-above, a light over the
     viewer's shoulder."""
-    cam = _camera_looking_at(mesh.vertices, (0.6, -1.0, 0.7), width, height)
+    cam = frame_camera(mesh.vertices, (0.6, -1.0, 0.7), width, height)
     light = light or Light("directional", direction=(1.0, -0.6, 1.4))
     return Scene((SceneObject(mesh, material or Material()),), cam, light, viewer, name=mesh.name)
-
-
-def builtin_scene(
-    name: str, width: int = DEFAULT_WIDTH, height: int = DEFAULT_HEIGHT, teapot_steps: int = 10
-) -> Scene:
-    """One of the built-in scenes (``SCENE_NAMES``), each with a visible specular highlight.
-
-    * "sphere": icosphere (1280 triangles), n = 60, directional light, viewer at infinity.
-    * "torus": 48 x 24 torus, n = 20, point light, local viewer.
-    * "teapot": the Utah teapot (28 Bezier patches, ``teapot_steps``^2 cells each), n = 40,
-      directional light, viewer at infinity.
-    * "quad": a 4 x 4 domed quad (32 x 32 cells, normals tilting up to 14 degrees), n = 1000,
-      a nearby point light and a local viewer: one tight highlight.
-    """
-    check_choice("name", name, SCENE_NAMES)
-    check_int("width", width, 1, MAX_RESOLUTION)
-    check_int("height", height, 1, MAX_RESOLUTION)
-    if name == "sphere":
-        mesh = sphere_mesh(1.0, 3)
-        mat = Material(ambient=0.08, k_d=0.55, k_s=0.4, n=60, colour=(0.85, 0.18, 0.12))
-        cam = Camera((0.0, -4.2, 1.2), (0.0, 0.0, 0.0), (0, 0, 1), 34.0, width, height)
-        light = Light("directional", direction=(-0.8, -1.0, 1.2), intensity=1.0)
-        return Scene((SceneObject(mesh, mat),), cam, light, "infinite", name=name)
-    if name == "torus":
-        mesh = torus_mesh(1.0, 0.4, 48, 24)
-        mat = Material(ambient=0.08, k_d=0.55, k_s=0.45, n=20, colour=(0.9, 0.7, 0.2))
-        cam = Camera((0.0, -3.6, 2.4), (0.0, 0.0, 0.0), (0, 0, 1), 40.0, width, height)
-        light = Light("point", position=(1.5, -2.5, 3.0), intensity=1.0)
-        return Scene((SceneObject(mesh, mat),), cam, light, "local", name=name)
-    if name == "teapot":
-        mesh = teapot_mesh(teapot_steps)
-        mat = Material(ambient=0.1, k_d=0.65, k_s=0.8, n=40, colour=(0.25, 0.45, 0.9))
-        cam = _camera_looking_at(mesh.vertices, (0.35, -1.0, 0.55), width, height, fov_y=30.0)
-        light = Light("directional", direction=(-0.3, -1.0, 0.9), intensity=1.0)
-        return Scene((SceneObject(mesh, mat),), cam, light, "infinite", name=name)
-    # "quad"
-    mesh = domed_quad_mesh(4.0, 0.25, 32)
-    mat = Material(ambient=0.08, k_d=0.5, k_s=0.5, n=1000, colour=(0.35, 0.75, 0.4))
-    cam = Camera((0.0, -5.2, 4.2), (0.0, 0.1, 0.0), (0, 0, 1), 45.0, width, height)
-    light = Light("point", position=(0.9, 1.2, 2.2), intensity=1.0)
-    return Scene((SceneObject(mesh, mat),), cam, light, "local", name=name)

@@ -158,8 +158,8 @@ class Camera:
         d = np.subtract(self.target, self.eye)
         if np.linalg.norm(d) < 1e-12:
             raise ValueError(
-                f"target - eye = {tuple(d.tolist())} cannot be normalised: the camera needs "
-                f"eye != target"
+                f"target - eye = {tuple(d.tolist())} cannot be normalised: legal is a camera "
+                f"with eye != target"
             )
         f = d / np.linalg.norm(d)
         if np.linalg.norm(np.cross(f, self.up)) < 1e-9:

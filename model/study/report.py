@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from model.render import meshes, pipeline, raster, reference, shade
+from model.render import pipeline, raster, reference, scene, scenefile, shade
 from model.study import images, metrics
 from model.units import specular
 
@@ -122,17 +122,25 @@ class SceneRun:
 
 
 def run_methods(
-    scene_name: str = DEFAULT_SCENE,
+    scene_name: str | scene.Scene = DEFAULT_SCENE,
     size: int = DEFAULT_SIZE,
     methods: list[str] | None = None,
     repeats: int = 1,
     progress: bool = False,
     configs: dict[str, pipeline.PipelineConfig] | None = None,
 ) -> SceneRun:
-    """Rasterise once, shade with every method, compare each with (a)."""
+    """Rasterise once, shade with every method, compare each with (a).
+
+    ``scene_name`` is a built-in scene's name (made ``size`` x ``size``) or a ``Scene`` (a scene
+    file's or a mesh file's, ``scenefile.SceneSource.scene``), shaded at its own camera's size."""
     methods = list(methods or METHOD_LABELS)
     configs = configs or {}
-    frame_raster = raster.rasterise(meshes.builtin_scene(scene_name, size, size))
+    if isinstance(scene_name, scene.Scene):
+        the_scene = scene_name
+    else:
+        the_scene = scenefile.builtin_scene(scene_name, size, size)
+    scene_name, size = the_scene.name, the_scene.camera.width
+    frame_raster = raster.rasterise(the_scene)
     ref = shade.shade(frame_raster, reference.exact_blinn)
     highlight = metrics.highlight_mask(ref.specular)
     results = {}

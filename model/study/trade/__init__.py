@@ -26,11 +26,13 @@ same bit-exact pipeline as ``make demo`` with other configurations, never specia
 ``SpecularConfig.a_int_bits`` follows from the k-set and alpha: the narrowest integer part that
 holds the largest a (3 bits for k = 16 tables, 5 for the prototype's cos^2: a up to 22.4).
 
-**Scenes**: the built-in ones (``meshes.SCENE_NAMES``) and mesh files (``main(meshes=...)``,
-``--mesh FILE``), each framed by ``meshes.scene_from_mesh`` with its defaults and evaluated like
-a built-in scene.  A mesh's scene key is ``mesh:<file name>@<first 12 hex of its sha1>``
-(``mesh_key``), so the cache follows the file's content; a mesh that cannot be read and framed
-is refused before any work, in one line naming the file.
+**Scenes**: the built-in ones (``scenefile.SCENE_NAMES``), scene files (``--scene FILE.toml``)
+and mesh files (``main(meshes=...)``, ``--mesh FILE``, turned by ``--up`` and framed by
+``meshes.scene_from_mesh`` with its defaults), each evaluated like a built-in scene.  A file's
+scene key is ``scene:<file name>@<12 hex>`` or ``mesh:<file name>@<12 hex>``
+(``scenefile.SceneSource.key``: the sha1 of the file's bytes, and of the meshes a scene file
+names, and of a mesh's up axis), so the cache follows the content; a file that cannot be read
+and framed is refused before any work, in one line naming the file.
 
 **Figures per point** (``evaluate``), against the exact float Blinn (a) of ``model.study.report``:
 NMSE, PSNR, max error, highlight max error; the worst epicentre relative error of the unit's
@@ -83,7 +85,7 @@ import time
 from collections.abc import Sequence
 from pathlib import Path
 
-from model.render import meshes as _meshes
+from model.render import scenefile as _scenefile
 from model.study import report
 from model.study.trade.analysis import (
     NEAR,
@@ -108,11 +110,11 @@ from model.study.trade.points import (
     CACHE_VERSION,
     DEFAULT_POINT,
     DEFAULT_SIZE,
+    FILE_KEY,
     FULL_PRODUCT,
     GRIDS,
     K_SETS,
     KNOBS,
-    MESH_KEY,
     NAMED,
     SMALL_SWEEPS,
     Sweep,
@@ -120,7 +122,6 @@ from model.study.trade.points import (
     a_int_bits_for,
     grid_configs,
     grid_points,
-    mesh_key,
     point_scene,
     row_knobs,
 )
@@ -150,12 +151,12 @@ __all__ = [
     "DEFAULT_OUT",
     "DEFAULT_POINT",
     "DEFAULT_SIZE",
+    "FILE_KEY",
     "FULL_PRODUCT",
     "GRIDS",
     "KNOBS",
     "K_SETS",
     "LOCK_NAME",
-    "MESH_KEY",
     "NAMED",
     "NEAR",
     "RESULT_RANGES",
@@ -167,8 +168,8 @@ __all__ = [
     "a_int_bits_for",
     "aggregate",
     "cache_path",
-    "check_meshes",
     "check_result",
+    "check_sources",
     "check_workers",
     "connect",
     "default_position",
@@ -182,7 +183,6 @@ __all__ = [
     "load_cached",
     "main",
     "make_client",
-    "mesh_key",
     "near_front",
     "pareto_mask",
     "place_labels",
@@ -201,31 +201,31 @@ __all__ = [
 DEFAULT_OUT = Path("out/trade")
 
 
-def check_meshes(paths: Sequence[str | Path]) -> dict[str, str]:
-    """The scene key of every mesh file (``mesh_key``) with its absolute path, each file read and
-    framed once as the sweep will; or ``SetupError`` (status 2, before any work) naming the
-    file and why it cannot be used."""
-    files: dict[str, str] = {}
-    for path in paths:
-        p = Path(path)
+def check_sources(sources: Sequence[_scenefile.SceneSource]) -> dict[str, _scenefile.SceneSource]:
+    """The scene key of every scene file and mesh file (``SceneSource.key``) with its source, each
+    read and framed once as the sweep will; or ``SetupError`` (status 2, before any work) naming
+    the argument, the file and why it cannot be used."""
+    files: dict[str, _scenefile.SceneSource] = {}
+    for source in sources:
+        arg = "--mesh" if source.kind == "mesh" else "--scene"
         try:
-            key = mesh_key(p)
-            point_scene(TradePoint(scene=key, size=8), {key: p})
+            key = source.key()
+            point_scene(TradePoint(scene=key, size=8), {key: source})
         except OSError as exc:
-            why = f"path = '{p}' cannot be read: {exc.strerror or exc}"
-            raise SetupError(f"argument --mesh: {why}", status=2) from None
-        except Exception as exc:  # trimesh and the mesh checks: one line, whatever they said
+            why = f"path = '{exc.filename}' cannot be read: {exc.strerror or exc}"
+            raise SetupError(f"argument {arg}: {why}", status=2) from None
+        except Exception as exc:  # trimesh and the scene checks: one line, whatever they said
             why = " ".join(str(exc).split())
-            if str(p) not in why:
-                why = f"path = '{p}': {why}"
-            raise SetupError(f"argument --mesh: {why}", status=2) from None
-        files.setdefault(key, str(p.resolve()))
+            if source.ref not in why:
+                why = f"path = '{source.ref}': {why}"
+            raise SetupError(f"argument {arg}: {why}", status=2) from None
+        files.setdefault(key, source)
     return files
 
 
 # ================================================================================ the command
 def main(
-    scenes: Sequence[str] = _meshes.SCENE_NAMES,
+    scenes: Sequence[str | _scenefile.SceneSource] = _scenefile.SCENE_NAMES,
     size: int = DEFAULT_SIZE,
     grid: str = "small",
     out_dir: Path = DEFAULT_OUT,
@@ -236,24 +236,33 @@ def main(
     connect_timeout: float = CONNECT_TIMEOUT,
     *,
     meshes: list[Path] | None = None,
+    up: str = "auto",
 ) -> int:
     """``python -m model trade``: sweep, cache, write the outputs, print the summary.
 
-    ``scenes`` are built-in scenes; ``meshes`` mesh files (``--mesh``), each one more scene
-    (``check_meshes``, ``point_scene``).  Before any work (``SetupError``, named after the
-    command-line arguments): every mesh must load and frame, ``out_dir`` and ``figure_dir`` must
+    ``scenes`` are built-in scenes' names or scene sources (a scene file, ``--scene``);
+    ``meshes`` mesh files (``--mesh``) turned by ``up`` (``--up``), each one more scene
+    (``check_sources``, ``point_scene``).  Before any work (``SetupError``, named after the
+    command-line arguments): every file must load and frame, ``out_dir`` and ``figure_dir`` must
     be folders this user can create and write in, the sweep lock of ``out_dir/cache`` must be
     free (a second sweep on the same ``--out`` is refused, it does not wait) and ``scheduler``
     must answer within ``connect_timeout`` seconds."""
     workers = check_workers(workers, allow_zero=True)
-    mesh_files = check_meshes(meshes or [])
-    scene_keys = list(dict.fromkeys([*scenes, *mesh_files]))
+    builtin = [
+        s.ref if isinstance(s, _scenefile.SceneSource) else s
+        for s in scenes
+        if not isinstance(s, _scenefile.SceneSource) or s.kind == "builtin"
+    ]  # each checked by TradePoint
+    given = [s for s in scenes if isinstance(s, _scenefile.SceneSource) and s.kind != "builtin"]
+    given += [_scenefile.SceneSource("mesh", str(m), up) for m in meshes or []]
+    files = check_sources(given)
+    scene_keys = list(dict.fromkeys([*builtin, *files]))
     points = grid_points(grid, scene_keys, size)
     out_dir = report.check_output_dir("--out", Path(out_dir))
     cache_dir = report.check_output_dir("--out", out_dir / "cache")
     if figure_dir is not None:
         report.check_output_dir("--figure", Path(figure_dir))
-    evaluate_fn = functools.partial(evaluate, mesh_files=mesh_files) if mesh_files else evaluate
+    evaluate_fn = functools.partial(evaluate, sources=files) if files else evaluate
     with sweep_lock(cache_dir):
         client = connect(scheduler, connect_timeout) if scheduler else None
         try:

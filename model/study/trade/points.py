@@ -3,8 +3,8 @@
 Owns ``TradePoint`` (a scene, a size, one value per knob) with its cache ``key``
 (``CACHE_VERSION``), the knobs (``KNOBS``, ``K_SETS``, ``DEFAULT_POINT``, ``row_knobs``), the grids
 (``Sweep``, ``SMALL_SWEEPS``, ``NAMED``, ``FULL_PRODUCT``, ``grid_configs``, ``grid_points``) and
-the scenes a point can name: a built-in scene or a mesh file (``mesh_key``, ``point_scene``).  May
-import ``model.units`` and ``model.render``.
+the scenes a point can name: a built-in scene, or a scene file or mesh file by its key
+(``FILE_KEY``, ``point_scene``).  May import ``model.units`` and ``model.render``.
 """
 
 from __future__ import annotations
@@ -18,9 +18,8 @@ import math
 import re
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
-from pathlib import Path
 
-from model.render import meshes, pipeline, scene
+from model.render import pipeline, scene, scenefile
 from model.units import divider, gouraud, specular
 
 CACHE_VERSION = 4
@@ -47,22 +46,15 @@ KNOBS: tuple[str, ...] = (
     "highlight_levels",
 )
 
-MESH_KEY = re.compile(r"mesh:(?P<name>[^/\\]+)@(?P<sha1>[0-9a-f]{12})")
-"""A mesh file's scene key (``mesh_key``): ``mesh:<file name>@<first 12 hex of its sha1>``."""
+FILE_KEY = re.compile(r"(?P<kind>mesh|scene):(?P<name>[^/\\]+)@(?P<sha1>[0-9a-f]{12})")
+"""A mesh file's or scene file's key (``scenefile.SceneSource.key``): ``mesh:<file name>@<12 hex>``
+or ``scene:<file name>@<12 hex>``, the hex from the sha1 of the files' bytes (and of the mesh's
+up axis)."""
 
 
 def row_knobs(row: dict) -> dict:
     """The knob values of a result or an aggregated row (``TradePoint.with_knobs`` takes them)."""
     return {k: row[k] for k in KNOBS}
-
-
-def mesh_key(path: str | Path) -> str:
-    """The scene key of a mesh file: its name and the first 12 hex digits of the sha1 of its
-    bytes, so the cache follows the content (an edited file is a new key, a copy elsewhere the
-    same).  ``OSError`` when the file cannot be read."""
-    p = Path(path)
-    digest = hashlib.sha1(p.read_bytes(), usedforsecurity=False).hexdigest()
-    return f"mesh:{p.name}@{digest[:12]}"
 
 
 def _hash(payload: dict) -> str:
@@ -74,8 +66,8 @@ def _hash(payload: dict) -> str:
 class TradePoint:
     """One scene at one resolution through one configuration (the knobs: ``model.study.trade``).
 
-    ``scene`` is a built-in scene's name (``meshes.SCENE_NAMES``) or a mesh file's key
-    (``mesh_key``); ``point_scene`` makes the scene."""
+    ``scene`` is a built-in scene's name (``scenefile.SCENE_NAMES``) or a file's key
+    (``FILE_KEY``); ``point_scene`` makes the scene."""
 
     scene: str = "sphere"
     size: int = DEFAULT_SIZE
@@ -90,11 +82,14 @@ class TradePoint:
     highlight_levels: float = 0.5
 
     def __post_init__(self) -> None:
-        if not MESH_KEY.fullmatch(self.scene):
+        if not FILE_KEY.fullmatch(self.scene):
             try:
-                scene.check_choice("scene", self.scene, meshes.SCENE_NAMES)
+                scene.check_choice("scene", self.scene, scenefile.SCENE_NAMES)
             except ValueError as exc:
-                raise ValueError(f"{exc} or a mesh key 'mesh:<file name>@<sha1: 12 hex>'") from None
+                raise ValueError(
+                    f"{exc} or a file key 'mesh:<file name>@<sha1: 12 hex>' or "
+                    "'scene:<file name>@<sha1: 12 hex>'"
+                ) from None
         scene.check_choice("k_set", self.k_set, tuple(K_SETS))
         # Canonical types, so that equal points have equal keys (1 and 1.0, numpy ints).
         for name in ("size", "rom_addr_bits", "rom_data_bits", "z_frac_bits", "recip_bits", "p"):
@@ -261,7 +256,7 @@ def grid_configs(grid: str = "small") -> list[dict[str, object]]:
 
 
 def grid_points(
-    grid: str = "small", scenes: Sequence[str] = meshes.SCENE_NAMES, size: int = DEFAULT_SIZE
+    grid: str = "small", scenes: Sequence[str] = scenefile.SCENE_NAMES, size: int = DEFAULT_SIZE
 ) -> list[TradePoint]:
     """Every (configuration, scene) of the grid; each configuration is validated here."""
     points = []
@@ -274,28 +269,28 @@ def grid_points(
 
 
 def point_scene(
-    point: TradePoint, mesh_files: Mapping[str, str | Path] | None = None
+    point: TradePoint, sources: Mapping[str, scenefile.SceneSource] | None = None
 ) -> scene.Scene:
-    """The scene the point names, at its size: a built-in scene, or the mesh file
-    ``mesh_files[point.scene]`` framed by ``meshes.scene_from_mesh`` with its defaults.
+    """The scene the point names, at its size: a built-in scene, or ``sources[point.scene]``
+    (a scene file, or a mesh file framed by ``meshes.scene_from_mesh`` with its defaults).
 
-    The file must still be the one its key names: one edited since (another sha1) is refused
+    The files must still be the ones the key names: one edited since (another sha1) is refused
     with ``ValueError``, so that no result is cached under the key of other content."""
-    if not MESH_KEY.fullmatch(point.scene):
-        return meshes.builtin_scene(point.scene, point.size, point.size)
-    path = (mesh_files or {}).get(point.scene)
-    if path is None:
+    if not FILE_KEY.fullmatch(point.scene):
+        return scenefile.builtin_scene(point.scene, point.size, point.size)
+    source = (sources or {}).get(point.scene)
+    if source is None:
         raise ValueError(
-            f"scene = {point.scene!r} names a mesh and no file was given for it: legal is "
-            "mesh_files = {key: path} (trade.main makes it from its meshes)"
+            f"scene = {point.scene!r} names a file and no file was given for it: legal is "
+            "sources = {key: SceneSource} (trade.main makes it from its scenes and meshes)"
         )
     try:
-        key = mesh_key(path)
+        key = source.key()
     except OSError as exc:
-        raise ValueError(f"mesh file '{path}' cannot be read: {exc.strerror or exc}") from None
+        raise ValueError(f"file '{exc.filename}' cannot be read: {exc.strerror or exc}") from None
     if key != point.scene:
         raise ValueError(
-            f"mesh file '{path}' is now {key!r}, not {point.scene!r}: it changed after the "
-            "sweep started"
+            f"{source.kind} file '{source.ref}' is now {key!r}, not {point.scene!r}: it changed "
+            "after the sweep started"
         )
-    return meshes.scene_from_mesh(meshes.load_mesh(path), width=point.size, height=point.size)
+    return source.scene(point.size, point.size)

@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from model.render import pipeline, raster, reference, shade
+from model.render.scenefile import SceneSource
 from model.study import metrics, report
 from model.study.trade.points import CACHE_VERSION, TradePoint, point_scene
 from model.units import gouraud, specular
@@ -34,9 +35,9 @@ CHANNELS = 3
 
 # ================================================================================ one point
 @functools.lru_cache(maxsize=8)
-def _scene_reference(scene_key: str, size: int, mesh_file: str | None):
+def _scene_reference(scene_key: str, size: int, source: SceneSource | None):
     """Rasterise once per process; the exact reference (a) and its highlight mask."""
-    files = {scene_key: mesh_file} if mesh_file is not None else None
+    files = {scene_key: source} if source is not None else None
     frame_raster = raster.rasterise(point_scene(TradePoint(scene=scene_key, size=size), files))
     ref = shade.shade(frame_raster, reference.exact_blinn)
     return frame_raster, ref, metrics.highlight_mask(ref.specular)
@@ -92,16 +93,16 @@ def hardware(cfg: pipeline.PipelineConfig) -> dict[str, int]:
 
 
 def evaluate(
-    point: TradePoint, repeats: int = 3, mesh_files: Mapping[str, str | Path] | None = None
+    point: TradePoint, repeats: int = 3, sources: Mapping[str, SceneSource] | None = None
 ) -> dict[str, object]:
     """Render the point's scene through its configuration; accuracy and cost (a flat dict).
 
-    ``mesh_files``: the file of each mesh key among the scenes (``points.point_scene``); the
-    sweep passes it as ``functools.partial(evaluate, mesh_files=...)``."""
+    ``sources``: the scene file or mesh file of each file key among the scenes
+    (``points.point_scene``); the sweep passes it as ``functools.partial(evaluate,
+    sources=...)``."""
     cfg = point.to_pipeline_config()
-    mesh_file = (mesh_files or {}).get(point.scene)
     frame_raster, ref, highlight = _scene_reference(
-        point.scene, point.size, None if mesh_file is None else str(mesh_file)
+        point.scene, point.size, (sources or {}).get(point.scene)
     )
     shader = pipeline.unit_shader(cfg)
     shade.shade(frame_raster, shader)  # warm-up: numba compiles or loads on the first call
