@@ -300,3 +300,22 @@ def test_up_is_checked() -> None:
         read_mesh("any.obj", up="w")
     for a, b in itertools.combinations(meshfile.UP_AXES[1:], 2):
         assert not np.allclose(up_rotation(a), up_rotation(b))
+
+
+def test_off_as_geomview_writes_it(tmp_path) -> None:
+    """OFF with comments after the header and after vertices, polygons of mixed sizes with a
+    colour after their corners (as geomview's own files are): read whole, fan-triangulated."""
+    text = (
+        "# a comment before the header\nOFF\n# and after it\n5 2 0\n"
+        "0 0 0  # vertex 0\n1 0 0\n1 1 0\n0 1 0\n0.5 1.5 0\n"
+        "4  0 1 2 3  0.8 0.1 0.1\n3  3 2 4  7\n"
+    )
+    path = tmp_path / "geomview.off"
+    path.write_text(text)
+    mesh = read_mesh(path).mesh
+    assert (mesh.n_vertices, mesh.n_triangles) == (5, 3)
+    np.testing.assert_allclose(mesh.normals, np.tile([0, 0, 1.0], (5, 1)))
+    four_d = tmp_path / "hyper.off"
+    four_d.write_text("4OFF\n4 1 0\n0 0 0 0\n1 0 0 0\n0 1 0 0\n0 0 1 0\n3 0 1 2\n")
+    with pytest.raises(ValueError, match=r"is a 4OFF file \(4-D or n-D vertices\): legal is a 3-D"):
+        read_mesh(four_d)

@@ -8,7 +8,9 @@ trimesh (with scipy, its fast paths) and ``model.render.scene``.
 
 The formats (``MESH_FORMATS``): whatever trimesh reads as triangles — OBJ, PLY, OFF, STL (binary
 and ASCII), GLB and glTF; polygons are triangulated by trimesh, a file of several meshes (an
-OBJ's objects, a glTF's nodes) becomes one mesh with each node's transform applied.
+OBJ's objects, a glTF's nodes) becomes one mesh with each node's transform applied.  An OFF file
+is first cleaned into what trimesh's OFF reader handles (``_off_text``: comments out, polygons
+fanned into triangles, face colours dropped; a 4-D ``4OFF`` refused).
 
 Repairs (``repair``): a broken file is refused with its name and what was expected, but messy
 geometry never is on its own.  In order:
@@ -152,6 +154,47 @@ def _file_normals(tm) -> np.ndarray | None:
     return np.asarray(cached, dtype=np.float64)
 
 
+def _off_text(p: Path):
+    """An OFF file as trimesh's OFF reader wants it: no comments (it takes a ``#`` and what
+    follows as numbers: geomview's own files, with comments after the header or after a vertex,
+    come out wrong or not at all) and triangles only (``_off_triangles``); a 4-D or n-D OFF
+    (header ``4OFF``, ``nOFF``) is refused, its vertices are not points in space."""
+    import io
+
+    try:
+        text = p.read_text(errors="strict")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise ValueError(f"path = '{p}' could not be read as OFF: {exc}") from None
+    lines = [line.split("#", 1)[0] for line in text.splitlines()]
+    header = next((line.split()[0] for line in lines if line.split()), "")
+    if header.endswith("OFF") and ("4" in header or header.lstrip("CNST").startswith("n")):
+        raise ValueError(
+            f"path = '{p}' is a {header} file (4-D or n-D vertices): legal is a 3-D OFF file "
+            "(header OFF, COFF, NOFF, CNOFF, STOFF)"
+        )
+    return io.StringIO("\n".join(_off_triangles(lines)) + "\n")
+
+
+def _off_triangles(lines: list[str]) -> list[str]:
+    """The OFF lines with every face a triangle: an n-gon becomes the fan of its n - 2 triangles,
+    a face's colour after its corners is dropped (trimesh's reader fails on polygons of mixed
+    sizes); unchanged when the counts cannot be read (trimesh then says what is wrong)."""
+    rows = [line.split() for line in lines if line.split()]
+    try:
+        inline = len(rows[0]) > 1  # "OFF 8 6 12" on one line
+        head = rows[0][1:] if inline else rows[1]
+        start = 1 if inline else 2
+        n_vertices, n_faces = int(head[0]), int(head[1])
+        faces = rows[start + n_vertices : start + n_vertices + n_faces]
+        triangles = [
+            f"3 {row[1]} {row[k]} {row[k + 1]}" for row in faces for k in range(2, int(row[0]))
+        ]
+    except (IndexError, ValueError):
+        return lines
+    vertices = [" ".join(row) for row in rows[start : start + n_vertices]]
+    return [rows[0][0], f"{n_vertices} {len(triangles)} 0", *vertices, *triangles]
+
+
 def _read_arrays(p: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
     """(vertices, faces, normals or None) of every triangle mesh in the file, node transforms
     applied; ``ValueError`` naming the file when it cannot be read or holds no triangles."""
@@ -159,7 +202,17 @@ def _read_arrays(p: Path) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
 
     _quiet_trimesh()
     try:
-        loaded = trimesh.load(str(p), process=False)
+        if p.suffix.lower() == ".off":
+            loaded = trimesh.load(_off_text(p), file_type="off", process=False)
+        else:
+            loaded = trimesh.load(str(p), process=False)
+    except ValueError as exc:
+        if str(p) in str(exc):
+            raise
+        raise ValueError(
+            f"path = '{p}' could not be read as {p.suffix.lower()[1:].upper()}: "
+            + (" ".join(str(exc).split()) or type(exc).__name__)
+        ) from None
     except Exception as exc:  # trimesh raises many types for a broken file
         why = " ".join(str(exc).split()) or type(exc).__name__
         raise ValueError(
@@ -294,9 +347,10 @@ def repair(
         fixes.duplicate_faces = int((~keep).sum())
         f = f[keep]  # order kept: first occurrences in file order
     if not len(f):
+        dropped = f"{fixes.degenerate_faces} degenerate faces dropped"
         raise ValueError(
-            f"no face is left after the repairs ({fixes.summary()}): legal is a mesh with at "
-            "least one face of non-zero area"
+            f"no face is left after the repairs ({dropped}): legal is a mesh with at least one "
+            "face of non-zero area"
         )
     # 4. unreferenced vertices
     used = np.zeros(len(v), dtype=bool)
