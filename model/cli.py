@@ -99,6 +99,8 @@ def accuracy_report() -> str:
         specular.format_brdf_table(),
         "== Specular: the fixed-point unit, default configuration ==",
         specular.format_accuracy_table(specular.DEFAULT, figs.specular["default"]),
+        "== Specular: the fixed-point unit, UP5K configuration (fits an iCE40 UP5K) ==",
+        specular.format_accuracy_table(specular.UP5K, figs.specular["up5k"]),
         "== Specular: per configuration ==",
         specular.format_config_table(figs.specular),
         "== Divider: worst error of 255/k and cycles, every k ==",

@@ -26,9 +26,19 @@
  * with their write strobes while busy = 0;
  * a start accepted in the same cycle as a write runs on the values held before it.
  *
- * Checks: a parameter set model.gouraud.GouraudConfig refuses is refused at elaboration (an
- * instance of a module that does not exist, named after the rule, e.g.
- * gouraud_segment_PARAMETER_ERROR_P_must_be_2_4_8_or_16).
+ * Reset: rst_n is synchronous, active low; no register has an initial value.  RESET_ALL = 0
+ * (default) resets busy, valid, last, mask, the segment counter and the operand registers (a
+ * start right after reset is an empty line); the data path (increment, start register, the
+ * last segment's mask, pixels) is loaded by every start, so pixels is defined from the first
+ * segment on.  RESET_ALL = 1 resets every register (pixels = 0 after reset)
+ * (docs/fpga.md, "Reset", "Parameters").
+ *
+ * Portability: plain Verilog-2005 (Icarus -g2005, Verilator --language 1364-2005, Yosys
+ * read_verilog; make lint); log2 P comes from the constant function clog2, not $clog2.
+ *
+ * Checks: a parameter set model.gouraud.GouraudConfig refuses, or a RESET_ALL other than 0 and
+ * 1, is refused at elaboration (an instance of a module that does not exist, named after the
+ * rule, e.g. gouraud_segment_PARAMETER_ERROR_P_must_be_2_4_8_or_16).
  *
  * Documentation: docs/gouraud.md (ports, formats, parameters, timing, accuracy, the contract
  * and its tests); docs/architecture.md (the protocol, the benches).
@@ -46,7 +56,9 @@ module gouraud_segment #(
     // Lanes: pixels per segment (2, 4, 8 or 16)
     parameter P = 8,
     // Width of the line length (lines of 1 .. 2^LEN_WIDTH-1 pixels), more than log2(P)
-    parameter LEN_WIDTH = 11
+    parameter LEN_WIDTH = 11,
+    // 0: rst_n resets the control state and the operand registers; 1: every register
+    parameter RESET_ALL = 0
 ) (
     input  wire                       clk,
     input  wire                       rst_n,
@@ -66,9 +78,20 @@ module gouraud_segment #(
     output wire                       last
 );
 
+// ceil(log2(v)) for v >= 1: $clog2 came with IEEE 1364-2005 and some Verilog tools lack it
+function integer clog2(input integer v);
+    integer r;
+    begin
+        clog2 = 0;
+        for (r = 1; r < v; r = r * 2) begin
+            clog2 = clog2 + 1;
+        end
+    end
+endfunction
+
 localparam I_WIDTH = I_INT + I_FRAC;
 localparam DI_WIDTH = I_WIDTH + 1;
-localparam LOG2P = $clog2(P);
+localparam LOG2P = clog2(P);
 // Multiples i*dI, i <= P: signed, no wrap
 localparam INC_WIDTH = DI_WIDTH + LOG2P;
 // Start register and lane adders: I0 + bias + i*dI for i up to 2^LEN_WIDTH never wraps
@@ -93,6 +116,9 @@ generate
     if (LEN_WIDTH <= LOG2P || LEN_WIDTH > 16) begin : g_check_len_width
         // A line must be able to span more than one segment
         gouraud_segment_PARAMETER_ERROR_LEN_WIDTH_must_be_log2_P_plus_1_to_16 u_error ();
+    end
+    if (RESET_ALL != 0 && RESET_ALL != 1) begin : g_check_reset_all
+        gouraud_segment_PARAMETER_ERROR_RESET_ALL_must_be_0_or_1 u_error ();
     end
 endgenerate
 
@@ -154,24 +180,29 @@ endfunction
 
 // ---------------------------------------------------------------- registers
 
+// No register has an initial value: rst_n (synchronous, active low) sets the control state
+// (busy, valid, last, the segment counter), the mask flags and the operand registers; the data
+// path (inc_reg, start_reg, last_mask_reg, pixels_reg) is loaded by every start and read only
+// while busy or, for pixels, from valid = 1 on.  RESET_ALL = 1 resets it too.
+
 // Operand registers
-reg [I_WIDTH-1:0]   i0_reg = {I_WIDTH{1'b0}};
-reg [DI_WIDTH-1:0]  di_reg = {DI_WIDTH{1'b0}};
-reg [LEN_WIDTH-1:0] len_reg = {LEN_WIDTH{1'b0}};
+reg [I_WIDTH-1:0]   i0_reg;
+reg [DI_WIDTH-1:0]  di_reg;
+reg [LEN_WIDTH-1:0] len_reg;
 
 // Working registers of a line: the increment block's dI, the start register, the segments
 // still to come after the current one, the last segment's mask
-reg [DI_WIDTH-1:0]  inc_reg = {DI_WIDTH{1'b0}};
-reg [ACC_WIDTH-1:0] start_reg = {ACC_WIDTH{1'b0}};
-reg [LEN_WIDTH-1:0] seg_reg = {LEN_WIDTH{1'b0}};
-reg [P-1:0]         last_mask_reg = {P{1'b0}};
+reg [DI_WIDTH-1:0]  inc_reg;
+reg [ACC_WIDTH-1:0] start_reg;
+reg [LEN_WIDTH-1:0] seg_reg;
+reg [P-1:0]         last_mask_reg;
 
 // Control and outputs
-reg                 busy_reg = 1'b0;
-reg                 valid_reg = 1'b0;
-reg                 last_reg = 1'b0;
-reg [P*I_INT-1:0]   pixels_reg = {P*I_INT{1'b0}};
-reg [P-1:0]         mask_reg = {P{1'b0}};
+reg                 busy_reg;
+reg                 valid_reg;
+reg                 last_reg;
+reg [P*I_INT-1:0]   pixels_reg;
+reg [P-1:0]         mask_reg;
 
 assign busy = busy_reg;
 assign valid = valid_reg;
@@ -206,7 +237,7 @@ generate
         localparam integer OP_B = (ADD_Y != 0) ? ADD_Y : SUB_Y;
         if (LEVEL == 0) begin : g_shift
             // Wired shift 2^w * dI
-            assign mult0[i*INC_WIDTH +: INC_WIDTH] = inc_ext << $clog2(i);
+            assign mult0[i*INC_WIDTH +: INC_WIDTH] = inc_ext << clog2(i);
         end else begin : g_none
             assign mult0[i*INC_WIDTH +: INC_WIDTH] = {INC_WIDTH{1'b0}};
         end
@@ -248,9 +279,11 @@ generate
         /* verilator lint_on UNUSEDSIGNAL */
         wire negative = sum[ACC_WIDTH-1];
         wire overflow = |sum[ACC_WIDTH-2:I_FRAC+I_INT];
-        assign lane_pixels[j*I_INT +: I_INT] = negative ? {I_INT{1'b0}} :
-                                              overflow ? {I_INT{1'b1}} :
-                                              sum[I_FRAC+I_INT-1:I_FRAC];
+        // negative ? 0 : overflow ? 2^I_INT-1 : the kept bits, as gates: written as a
+        // multiplexer, Yosys turns the clamp to 0 into a synchronous reset that the enable
+        // gates, which ECP5 flip-flops lack (synth_ecp5: 380 LUT4 instead of 161 at P = 8)
+        assign lane_pixels[j*I_INT +: I_INT] = {I_INT{~negative}}
+                                              & (sum[I_FRAC+I_INT-1:I_FRAC] | {I_INT{overflow}});
     end
 endgenerate
 
@@ -309,18 +342,22 @@ always @(posedge clk) begin
     end
 
     if (!rst_n) begin
+        // Control state, flags and operand registers
         i0_reg <= {I_WIDTH{1'b0}};
         di_reg <= {DI_WIDTH{1'b0}};
         len_reg <= {LEN_WIDTH{1'b0}};
-        inc_reg <= {DI_WIDTH{1'b0}};
-        start_reg <= {ACC_WIDTH{1'b0}};
         seg_reg <= {LEN_WIDTH{1'b0}};
-        last_mask_reg <= {P{1'b0}};
         busy_reg <= 1'b0;
         valid_reg <= 1'b0;
         last_reg <= 1'b0;
-        pixels_reg <= {P*I_INT{1'b0}};
         mask_reg <= {P{1'b0}};
+    end
+    if (!rst_n && RESET_ALL != 0) begin
+        // Data path
+        inc_reg <= {DI_WIDTH{1'b0}};
+        start_reg <= {ACC_WIDTH{1'b0}};
+        last_mask_reg <= {P{1'b0}};
+        pixels_reg <= {P*I_INT{1'b0}};
     end
 end
 

@@ -1,65 +1,102 @@
-"""Synthesise every RTL unit with Yosys for iCE40 and print its resource use (``make synth``).
+"""Synthesise, place and route the RTL units on real FPGA parts and print the figures (make synth).
 
-Proves the RTL synthesisable (Yosys must finish without error) and gives the silicon side of the
-speed/accuracy trade: LUT4s, flip-flops, carry cells, block RAMs and DSPs per unit at its default
-configuration.  ROM images are read from rtl/rom as in simulation.
+Every run goes through ``model.hw.synthesise`` (Yosys, then nextpnr with a fixed seed; results
+cached in out/synth/cache/); ``--jobs N`` runs N at a time (threads, each waiting on its tools).
+With no selection the default set runs: every unit at its default configuration on every part,
+plus the specular unit's UP5K configuration on the UP5K; every Fmax target of issue 13 is in it
+(docs/fpga.md, "Synthesis").  Exit status 1 if a target is missed or a design that must fit
+does not, 2 if a tool fails.
+
+    python scripts/synth.py                                   # the default set
+    python scripts/synth.py --units specular_unit --parts up5k --config up5k
+    python scripts/synth.py --jobs 2 --out out/synth --record docs/synth.json
 """
 
 from __future__ import annotations
 
-import json
-import shutil
-import subprocess
+import argparse
+import shlex
 import sys
-import tempfile
+import time
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-from model.units import divider, gouraud, specular
-from sim.runner import RTL_DIR, hdl_parameters
+from model.hw import PARTS, UNITS, SynthError, default_runs, report, synthesise
 
 
-def unit_parameters() -> dict[str, dict[str, object]]:
-    """Toplevel -> Verilog parameters of its default configuration."""
-    units = {
-        "divider_shift": hdl_parameters(
-            divider.DEFAULT, ROM_FILE=divider.rom_path(divider.DEFAULT)
-        ),
-        "gouraud_segment": hdl_parameters(gouraud.DEFAULT),
-        "specular_unit": hdl_parameters(specular.DEFAULT),
-    }
-    return units
+def _names(values: list[str] | None) -> list[str] | None:
+    if not values:
+        return None
+    return [v for value in values for v in value.replace(",", " ").split()]
 
 
-def synthesise(toplevel: str, params: dict[str, object]) -> dict[str, int]:
-    with tempfile.TemporaryDirectory() as tmp:
-        stat = Path(tmp) / "stat.json"
-        chparams = " ".join(
-            f'-set {k} "{v}"' if isinstance(v, str) else f"-set {k} {v}" for k, v in params.items()
-        )
-        script = (
-            f"read_verilog -defer {RTL_DIR / (toplevel + '.v')}; "
-            f"chparam {chparams} {toplevel}; synth_ice40 -top {toplevel}; "
-            f"tee -q -o {stat} stat -json"
-        )
-        subprocess.run(["yosys", "-q", "-p", script], check=True, capture_output=True, text=True)
-        module = next(iter(json.loads(stat.read_text())["modules"].values()))
-        return module["num_cells_by_type"]
+def runs_of(args: argparse.Namespace) -> list[tuple[str, str, str]]:
+    units, parts, configs = _names(args.units), _names(args.parts), _names(args.config)
+    if units is None and parts is None and configs is None:
+        return default_runs()
+    for unit in units or ():
+        if unit not in UNITS:
+            raise ValueError(f"unit {unit!r} is unknown: known units are {', '.join(UNITS)}")
+    for part in parts or ():
+        if part not in PARTS:
+            raise ValueError(f"part {part!r} is unknown: known parts are {', '.join(PARTS)}")
+    units, parts, configs = units or list(UNITS), parts or list(PARTS), configs or ["default"]
+    known = {c for u in units for c in UNITS[u][1]}
+    for config in configs:
+        if config not in known:
+            raise ValueError(
+                f"config {config!r} is unknown for {', '.join(units)}: named configurations "
+                f"are {', '.join(sorted(known))}"
+            )
+    return [(u, c, p) for u in units for c in configs if c in UNITS[u][1] for p in parts]
 
 
-def main() -> int:
-    if shutil.which("yosys") is None:
-        print("yosys not found: install it with 'apt-get install yosys'", file=sys.stderr)
-        return 1
-    print("| unit | LUT4 | flip-flops | carry | block RAM (4 kbit) | DSP |")
-    print("|---|---|---|---|---|---|")
-    for toplevel, params in unit_parameters().items():
-        cells = synthesise(toplevel, params)
-        ffs = sum(v for k, v in cells.items() if k.startswith("SB_DFF"))
-        print(
-            f"| {toplevel} | {cells.get('SB_LUT4', 0)} | {ffs} | {cells.get('SB_CARRY', 0)} "
-            f"| {cells.get('SB_RAM40_4K', 0)} | {cells.get('SB_MAC16', 0)} |"
-        )
-    return 0
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--units", nargs="*", help=f"units (default all: {', '.join(UNITS)})")
+    parser.add_argument("--parts", nargs="*", help=f"parts (default all: {', '.join(PARTS)})")
+    parser.add_argument(
+        "--config", nargs="*", help="named configurations, e.g. default up5k (default: default)"
+    )
+    parser.add_argument("--seed", type=int, default=1, help="nextpnr seed (default 1)")
+    parser.add_argument("--jobs", type=int, default=1, help="runs at a time (default 1)")
+    parser.add_argument("--out", type=Path, help="write synth.md and synth.json into this folder")
+    parser.add_argument("--record", type=Path, help="write the JSON record here (docs/synth.json)")
+    args = parser.parse_args(argv)
+    if args.jobs < 1:
+        parser.error(f"--jobs {args.jobs} is not allowed: 1 or more")
+    try:
+        runs = runs_of(args)
+    except ValueError as exc:
+        parser.error(str(exc))
+    start = time.monotonic()
+    results, errors = [], []
+    with ThreadPoolExecutor(max_workers=args.jobs) as pool:
+        futures = [pool.submit(synthesise, u, c, p, seed=args.seed) for u, c, p in runs]
+        for future in futures:
+            try:
+                results.append(future.result())
+            except SynthError as exc:
+                errors.append(str(exc))
+    command = "python scripts/synth.py" + "".join(
+        f" {a}" for a in map(shlex.quote, argv if argv is not None else sys.argv[1:])
+    )
+    table = report.table(results)
+    print(table)
+    print(f"{len(results)} runs in {time.monotonic() - start:.0f} s (cached runs are instant)")
+    if args.out:
+        args.out.mkdir(parents=True, exist_ok=True)
+        (args.out / "synth.md").write_text(table)
+        (args.out / "synth.json").write_text(report.dumps(results, command))
+    if args.record:
+        args.record.parent.mkdir(parents=True, exist_ok=True)
+        args.record.write_text(report.dumps(results, command))
+    bad = report.failures(results)
+    for line in bad:
+        print(f"FAILED: {line}", file=sys.stderr)
+    for line in errors:
+        print(f"error: {line}", file=sys.stderr)
+    return 2 if errors else 1 if bad else 0
 
 
 if __name__ == "__main__":

@@ -17,7 +17,11 @@ model's prediction in *every* cycle, whatever stimulus the test drives:
 4. ``rst_n`` low aborts the job, clears the operand registers and gives busy = valid = 0 and
    the flags 0;
 5. after the first reset busy, valid and the flags are never X or Z, and data outputs are
-   defined from the first result on;
+   defined from the first result on; with RESET_ALL = 1 (``BENCH_RESET_ALL``, set by the
+   runner to the value the RTL was built with) they are 0 from the reset on.  Icarus starts
+   every register at X, so a RESET_ALL = 0 run shows the data outputs X between the reset and
+   the first result: the monitor counts those cycles (``x_data_cycles`` in the summary), the
+   evidence that nothing but the data outputs was left unreset;
 6. every result equals the model bit for bit; a mismatch logs the operands that reproduce it;
 7. between results every output holds the last result (strobes such as ``last`` are 0), so a
    flag that belongs to another job than its result is caught in the cycle it appears.
@@ -46,6 +50,7 @@ __all__ = [
     "Stats",
     "UnitTB",
     "bench_config",
+    "bench_reset_all",
     "bench_rng",
     "bench_seed",
     "random_strobes",
@@ -83,6 +88,11 @@ def bench_config() -> dict:
     return json.loads(os.environ["BENCH_CONFIG"])
 
 
+def bench_reset_all() -> bool:
+    """The RESET_ALL the runner built the RTL with (BENCH_RESET_ALL; 0 when unset)."""
+    return os.environ.get("BENCH_RESET_ALL", "0") not in ("", "0")
+
+
 def bench_rng(test_name: str) -> random.Random:
     return random.Random(f"{bench_seed()}-{test_name}")
 
@@ -95,7 +105,10 @@ class ProtocolMonitor:
         self.cfg = cfg
         self.spec = units.spec(cfg)
         self.unit = self.spec.toplevel
-        self.model = ProtocolModel(self.spec, units.expect(cfg))
+        self.reset_all = bench_reset_all()
+        self.model = ProtocolModel(self.spec, units.expect(cfg), self.reset_all)
+        # Cycles after a reset with a data output X (RTL with an unreset data path, Icarus)
+        self.x_data_cycles = 0
         self.reset_values = self.spec.reset_operands
         # With keep_results, the RTL's outputs of every job, in order (for replays).
         self.result_log: list[list[dict[str, int]]] = []
@@ -176,6 +189,10 @@ class ProtocolMonitor:
                 self._started = model.stats.jobs_started
                 self.result_log.append([])
             self.result_log[-1].append({name: got[name] for name in result})
+        if model.shadow is not None and any(
+            got[p.name] is None for p in self.spec.outputs if p.kind == "data"
+        ):
+            self.x_data_cycles += 1
         diffs = compare(self.spec, expected, got)
         if not diffs:
             return
@@ -249,6 +266,8 @@ class ProtocolMonitor:
                     "compared": s.results_compared,
                     "errors": len(s.errors),
                     "cycles": s.cycles,
+                    "reset_all": int(self.reset_all),
+                    "x_data_cycles": self.x_data_cycles,
                 }
                 f.write(json.dumps(record) + "\n")
         if s.errors:

@@ -10,7 +10,8 @@ Per edge, with the inputs the edge sampled (``rst_n``, ``start``, ``<op>_in``, `
 
 * ``rst_n`` = 0 aborts any job, clears the operand registers to their reset values, gives
   busy = valid = 0, flags and strobes 0 and the data outputs undefined (``None``: the data
-  path need not be reset) until the next result;
+  path need not be reset, RESET_ALL = 0) until the next result, or 0 for an RTL built with
+  RESET_ALL = 1 (``reset_all``: every register is reset);
 * while busy (as predicted) writes and start are ignored (rule 1);
 * otherwise a start makes a job from the operand registers as they were *before* this edge's
   writes (a write in the start cycle is for the next job), then the writes land;
@@ -109,9 +110,11 @@ Expect = Callable[[dict[str, int]], Job]
 class ProtocolModel:
     """Predicts every output of a unit, edge by edge, from its inputs and the golden model."""
 
-    def __init__(self, spec: UnitSpec, expect: Expect) -> None:
+    def __init__(self, spec: UnitSpec, expect: Expect, reset_all: bool = False) -> None:
         self.spec = spec
         self.expect = expect
+        # The RTL's RESET_ALL: a reset clears the data outputs too (else they are don't-care)
+        self.reset_all = reset_all
         self.stats = Stats()
         self.shadow: dict[str, int] | None = None  # None until the first reset
         self.job: Job | None = None
@@ -167,7 +170,8 @@ class ProtocolModel:
         self.busy = 0
         self.shadow = self.spec.reset_operands
         self.stats.resets += 1
-        self.held = {p.name: (None if p.kind == "data" else 0) for p in self.spec.outputs}
+        undefined = None if not self.reset_all else 0
+        self.held = {p.name: (undefined if p.kind == "data" else 0) for p in self.spec.outputs}
         return {"busy": 0, "valid": 0, **self.held}
 
     def _unknown(self) -> dict[str, int | None]:

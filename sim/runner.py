@@ -4,6 +4,8 @@
 the unit configuration and seed to the bench through the environment, fails unless the bench
 ran at least one test and all passed, and returns the bench's summary records (how many results
 were compared).  ``WAVES=1`` in the environment dumps an FST waveform next to the build.
+``reset_all`` builds the unit with that RESET_ALL (docs/fpga.md, "Reset") and tells the bench
+(``BENCH_RESET_ALL``); the builds of RESET_ALL = 1 go to ``sim_build/<name>_reset_all``.
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ from pathlib import Path
 from cocotb_tools.check_results import get_results
 from cocotb_tools.runner import get_runner
 
-from model.units import divider
+from model.hw.params import hdl_parameters, unit_parameters  # noqa: F401 (re-exported)
 
 # The RTL is the package data ``model.rtl``; builds go to $SIM_BUILD, default ./sim_build in the
 # caller's folder.  ``sim`` itself is an installed package: benches run from any folder.
@@ -49,30 +51,6 @@ def env_seed(variable: str) -> int | None:
         ) from None
 
 
-def hdl_parameters(config: object, **extra: object) -> dict[str, object]:
-    """Verilog parameters of a unit: its config fields in UPPER_CASE, plus ``extra``
-    (docs/architecture.md).
-
-    Only int and bool fields become parameters; ``extra`` adds e.g. ``ROM_FILE``.  A config
-    whose parameters are not just its fields (the specular unit's k-set, ROM files) says so
-    with its own ``hdl_parameters()`` method, which is used instead.
-    """
-    if hasattr(config, "hdl_parameters"):
-        params = dict(config.hdl_parameters())
-    else:
-        fields = asdict(config) if is_dataclass(config) else dict(config)
-        params = {k.upper(): int(v) for k, v in fields.items() if isinstance(v, int | bool)}
-    params.update({k: (str(v) if isinstance(v, Path) else v) for k, v in extra.items()})
-    return params
-
-
-def unit_parameters(config: object) -> dict[str, object]:
-    """The Verilog parameters of the unit built for ``config``, ROM images included."""
-    if isinstance(config, divider.DividerConfig):
-        return hdl_parameters(config, ROM_FILE=divider.rom_path(config))
-    return hdl_parameters(config)
-
-
 def run_bench(
     toplevel: str,
     bench_module: str,
@@ -84,6 +62,7 @@ def run_bench(
     extra_env: dict[str, str] | None = None,
     rtl: Path | None = None,
     expect_failure: bool = False,
+    reset_all: int | None = None,
 ) -> list[dict]:
     """Build ``rtl/<toplevel>.v`` with ``parameters`` and run ``sim/<bench_module>.py``.
 
@@ -91,8 +70,18 @@ def run_bench(
     quoted for Icarus here.  Returns the summary records the bench's monitors wrote.
     ``rtl`` replaces ``rtl/<toplevel>.v`` (a saved mutant); with ``expect_failure`` the bench
     must fail (the records are returned then, with the failed tests' errors counted).
+    ``reset_all`` (0 or 1) sets the RESET_ALL parameter; None keeps the one in ``parameters``
+    (the RTL's default, 0, if it has none).
     """
     require_iverilog()
+    parameters = dict(parameters)
+    if reset_all is not None:
+        if reset_all not in (0, 1):
+            raise ValueError(f"reset_all={reset_all!r}: RESET_ALL must be 0 or 1")
+        parameters["RESET_ALL"] = int(reset_all)
+    reset_all = int(parameters.get("RESET_ALL", 0))
+    if reset_all:
+        name = f"{name}_reset_all"
     build_dir = SIM_BUILD / name
     build_dir.mkdir(parents=True, exist_ok=True)
     summary = build_dir / "summary.jsonl"
@@ -111,7 +100,12 @@ def run_bench(
         waves=waves,
         always=True,
     )
-    env = {"BENCH_CONFIG": json.dumps(cfg), "BENCH_SUMMARY": str(summary), **(extra_env or {})}
+    env = {
+        "BENCH_CONFIG": json.dumps(cfg),
+        "BENCH_SUMMARY": str(summary),
+        "BENCH_RESET_ALL": str(reset_all),
+        **(extra_env or {}),
+    }
     if seed is None:
         seed = env_seed("BENCH_SEED")
     if seed is not None:

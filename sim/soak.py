@@ -8,7 +8,9 @@ and then.  The protocol model (sim/protocol.py) predicts every output in every c
 
 ``run_soak(cfg, cycles, seed)`` writes the stimulus and the prediction as ``$readmemh`` files
 and replays them through the unit in a plain Verilog bench (sim/vectors/tb_<unit>.v, no
-Python in the loop), which compares every output with the prediction in every cycle.  Each
+Python in the loop; one instance with RESET_ALL = 0 and one with RESET_ALL = 1), which compares
+every output with the prediction in every cycle.  The same files, for a fixed seed, are the
+committed vector sets under sim/vectors/<set>/ (sim/vector_sets.py, ``make vectors``).  Each
 mismatch comes back decoded: the cycle, the output, the value, the model's value, and the
 operands of the job that reproduce it, with the seed that replays the whole run
 (``SOAK_SEED``).  The cocotb benches drive the same stimulus through their monitor.
@@ -205,7 +207,12 @@ class SoakResult:
         )
 
 
-MISMATCH = re.compile(r"^MISMATCH (\d+) ([0-9a-fxz]+) ([0-9a-f]+) ([0-9a-f]+)$", re.I | re.M)
+# The bench's lines (sim/vectors/vector_loop.vh): one per mismatch, then the count.
+MISMATCH = re.compile(
+    r"^MISMATCH cycle (\d+) RESET_ALL=(\d) "
+    r"got ([0-9a-fxz]+) expected ([0-9a-f]+) mask ([0-9a-f]+)$",
+    re.I | re.M,
+)
 DONE = re.compile(r"^VECTORS (\d+) cycles (\d+) mismatches$", re.M)
 
 
@@ -257,7 +264,9 @@ def run_soak(
     )
     log = ran.stdout + ran.stderr
     done = DONE.search(log)
-    if ran.returncode != 0 or done is None or int(done.group(1)) != cycles:
+    # The bench ends with a non-zero exit status after its count when anything mismatched.
+    failed_clean = done is not None and int(done.group(2)) > 0
+    if (ran.returncode != 0 and not failed_clean) or done is None or int(done.group(1)) != cycles:
         raise RuntimeError(
             f"{top} did not finish its {cycles} cycles (exit {ran.returncode}):\n{log}"
         )
@@ -266,7 +275,8 @@ def run_soak(
     of = out_fields(spec)
     for m in MISMATCH.finditer(log):
         cycle = int(m.group(1))
-        result.mismatches.append(_describe(spec, of, cycle, m.groups()[1:], pred, stim))
+        text = _describe(spec, of, cycle, m.groups()[2:], pred, stim)
+        result.mismatches.append(f"RESET_ALL = {m.group(2)}, {text}")
     return result
 
 

@@ -140,6 +140,30 @@ def test_issue_11_numbers(figs) -> None:
     assert figs["lsb_approx_any_c"].value > 0.99
 
 
+def test_issue_13_up5k_numbers(figs) -> None:
+    """UP5K (issue 13): ROM 12 as 4 x 2^11 x 12 bits, so that ROM 9 (1024 x 17: five 1024 x 4
+    RAM40 blocks) and ROM 12 (per table six 2048 x 2 blocks) take 29 of the UP5K's 30 RAM40; its
+    figures as docs/specular.md gives them (its per-n table, and its row of the config table)."""
+    cfg = specular.UP5K
+    assert specular.ROM_CONFIGS["up5k"] is cfg
+    assert (cfg.rom_addr_bits, cfg.rom_data_bits, cfg.ks) == (11, 12, (1, 2, 4, 16))
+    rom9 = math.ceil(cfg.a_width / 4)  # 1024 x 4 per RAM40
+    rom12 = cfg.num_tables * math.ceil(cfg.rom_data_bits / 2)  # 2048 x 2 per RAM40
+    assert (rom9, rom12) == (5, 24) and rom9 + rom12 <= 30
+    acc = figs.specular["up5k"]
+    assert 100 * acc.rom_rel[3 - 1] == pytest.approx(1.18849, abs=5e-5)
+    assert acc.out_lsb_exact.max() == pytest.approx(5.50790, abs=5e-5)
+    assert acc.out_lsb_approx.max() == pytest.approx(0.75204, abs=5e-5)
+    assert acc.approx_c_full.value == pytest.approx(0.77367, abs=5e-5)
+    assert acc.exact_c_full.value == pytest.approx(5.54158, abs=5e-5)
+    assert acc.exact_any_c.value == pytest.approx(5.56700, abs=5e-5)
+    # Against the default: the 12-bit words and the halved tables cost at most 0.14 LSB
+    default = figs.specular["default"]
+    assert acc.out_lsb_approx.max() - default.out_lsb_approx.max() < 0.14
+    text = (ROOT / "docs" / "specular.md").read_text()
+    assert specular.format_accuracy_table(cfg, acc) in text
+
+
 # ==================================================================== worst cases replayed
 def replay(w: specular.Worst, cfg: SpecularConfig, exact: bool) -> float:
     """|shade_line(c, 0, z, n, 0) - C f| through the public bit-exact call."""

@@ -8,7 +8,9 @@ from __future__ import annotations
 
 import dataclasses
 import random
+import re
 from fractions import Fraction
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -265,3 +267,43 @@ def test_soak_seed_comes_from_the_environment(monkeypatch) -> None:
     seed = random.Random(3).randrange(1 << 31)
     monkeypatch.setenv("SOAK_SEED", str(seed))
     assert soak_seed() == seed
+
+
+# ------------------------------------------------------------------------ RTL parameters, reset
+RTL_FILE = Path(__file__).resolve().parent.parent / "rtl" / "divider_shift.v"
+
+
+def rtl_parameters() -> dict[str, str]:
+    """The parameters the RTL's module header declares, in order, with their default text."""
+    header = RTL_FILE.read_text().split("module divider_shift #(", 1)[1].split("\n) (", 1)[0]
+    return dict(re.findall(r"^\s*parameter\s+(\w+)\s*=\s*(.+?),?\s*$", header, flags=re.M))
+
+
+def test_rtl_parameters_are_the_documented_ones() -> None:
+    """Parameters: the config fields in UPPER_CASE with the defaults of ``DEFAULT``, ROM_FILE
+    (default: the default configuration's image in the folder `SHADING_ROM_DIR), and last
+    RESET_ALL, default 0 (docs/fpga.md, "Reset"), which no model field maps to."""
+    params = rtl_parameters()
+    assert list(params) == ["A_WIDTH", "K_WIDTH", "RECIP_BITS", "ROM_FILE", "RESET_ALL"]
+    assert params["RESET_ALL"] == "0"
+    for field in ("a_width", "k_width", "recip_bits"):
+        assert params[field.upper()] == str(getattr(DEFAULT, field)), field
+    assert set(unit_parameters(DEFAULT)) | {"RESET_ALL"} == set(params)
+    assert params["ROM_FILE"] == '{`SHADING_ROM_DIR, "/divider_recip_k11_n20.hex"}'
+    assert divider.rom_path(DEFAULT).name == "divider_recip_k11_n20.hex"
+
+
+@pytest.mark.parametrize("reset_all", [0, 1])
+def test_bench_expects_the_data_outputs_reset_only_with_reset_all(reset_all: int) -> None:
+    """Reset: busy, valid and div_zero are 0 after a reset whatever RESET_ALL; q is undefined
+    until the next result with RESET_ALL = 0 (a don't-care: the data path is not reset, Icarus
+    shows X) and 0 with RESET_ALL = 1 (every register reset).  The runner builds the RTL with
+    the bench's RESET_ALL and tells the monitor (BENCH_RESET_ALL)."""
+    d = Drive(DEFAULT)
+    d.model.reset_all = bool(reset_all)
+    d.reset()
+    assert d.outputs[-1]["q"] == (0 if reset_all else None)
+    d.job(a=100, k=4)
+    out = d.edge(rst_n=0)
+    assert (out["busy"], out["valid"], out["div_zero"]) == (0, 0, 0)
+    assert out["q"] == (0 if reset_all else None)

@@ -8,7 +8,9 @@ from __future__ import annotations
 
 import dataclasses
 import itertools
+import re
 from fractions import Fraction
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -260,3 +262,40 @@ def test_soak_stimulus_replays_from_its_seed_and_reaches_the_extremes() -> None:
     assert 0 in {s["len_in"] for s in stim if s["len_we"]}
     values = np.array([s["len_in"] for s in stim if s["len_we"]])
     assert values.max() > 4 * cfg.p
+
+
+# ------------------------------------------------------------------------ RTL parameters, reset
+RTL_FILE = Path(__file__).resolve().parent.parent / "rtl" / "gouraud_segment.v"
+
+
+def rtl_parameters() -> dict[str, str]:
+    """The parameters the RTL's module header declares, in order, with their default text."""
+    header = RTL_FILE.read_text().split("module gouraud_segment #(", 1)[1].split("\n) (", 1)[0]
+    return dict(re.findall(r"^\s*parameter\s+(\w+)\s*=\s*(.+?),?\s*$", header, flags=re.M))
+
+
+def test_rtl_parameters_are_the_documented_ones() -> None:
+    """Parameters: the config fields in UPPER_CASE with the defaults of ``DEFAULT``, and last
+    RESET_ALL, default 0 (docs/fpga.md, "Reset"), which no model field maps to."""
+    params = rtl_parameters()
+    assert list(params) == ["I_INT", "I_FRAC", "P", "LEN_WIDTH", "RESET_ALL"]
+    assert params["RESET_ALL"] == "0"
+    for field in ("i_int", "i_frac", "p", "len_width"):
+        assert params[field.upper()] == str(getattr(DEFAULT, field)), field
+    assert set(unit_parameters(DEFAULT)) | {"RESET_ALL"} == set(params)
+
+
+@pytest.mark.parametrize("reset_all", [0, 1])
+def test_bench_expects_the_data_outputs_reset_only_with_reset_all(reset_all: int) -> None:
+    """Reset: busy, valid, mask and last are 0 after a reset whatever RESET_ALL; pixels is
+    undefined until the next segment with RESET_ALL = 0 (a don't-care: the data path is not
+    reset, Icarus shows X) and 0 with RESET_ALL = 1 (every register reset).  The runner builds
+    the RTL with the bench's RESET_ALL and tells the monitor (BENCH_RESET_ALL)."""
+    d = Drive(DEFAULT)
+    d.model.reset_all = bool(reset_all)
+    d.reset()
+    assert d.outputs[-1]["pixels"] == (0 if reset_all else None)
+    d.job(i0=10 << DEFAULT.i_frac, di=1 << DEFAULT.i_frac, len=20)
+    out = d.edge(rst_n=0)
+    assert (out["busy"], out["valid"], out["mask"], out["last"]) == (0, 0, 0, 0)
+    assert out["pixels"] == (0 if reset_all else None)

@@ -165,8 +165,8 @@ def test_mag_int_bits_is_the_smallest_width_that_reaches_pi_over_2(
 # ------------------------------------------------------------------------ timing (bench model)
 @pytest.mark.parametrize(("name", "cfg"), BENCH_CONFIGS, ids=[n for n, _ in BENCH_CONFIGS])
 def test_bench_expects_the_documented_timing(name: str, cfg: SpecularConfig) -> None:
-    """Contract: "After the edge that accepts start, busy is high for cycles(l) = 5 + l cycles
-    and valid is high in cycles 5 .. 5 + l: l + 1 results, one per clock, ..., the last together
+    """Contract: "After the edge that accepts start, busy is high for cycles(l) = 8 + l cycles
+    and valid is high in cycles 8 .. 8 + l: l + 1 results, one per clock, ..., the last together
     with busy = 0"; an n outside 1..1000 runs "with the same timing, every pixel 0 with n_err =
     1"."""
     c = cfg.c_format.hi
@@ -175,11 +175,12 @@ def test_bench_expects_the_documented_timing(name: str, cfg: SpecularConfig) -> 
             d = Drive(cfg)
             d.reset()
             after = d.job(c=c, dz=3 << 10, z0=-(1 << 14), n=n, len=length)
-            busy = 5 + length
+            busy = 8 + length
+            assert specular.FILL_LATENCY == 8 and specular.cycles(length, cfg) == busy
             assert column(after, "busy") == [1] * busy + [0] * (len(after) - busy)
-            assert ones(column(after, "valid")) == list(range(5, 5 + length + 1))
-            got = [after[i]["intensity"] for i in range(5, 6 + length)]
-            flags = {after[i]["n_err"] for i in range(5, 6 + length)}
+            assert ones(column(after, "valid")) == list(range(8, 8 + length + 1))
+            got = [after[i]["intensity"] for i in range(8, 9 + length)]
+            flags = {after[i]["n_err"] for i in range(8, 9 + length)}
             if n == 40:
                 values = specular.shade_line(c, 3 << 10, -(1 << 14), 40, length, cfg)
                 assert got == values.tolist() and flags == {0}
@@ -188,19 +189,19 @@ def test_bench_expects_the_documented_timing(name: str, cfg: SpecularConfig) -> 
 
 
 def test_back_to_back_line_clocks() -> None:
-    """Contract: "back-to-back lines take l + 6 clocks each: 2053 clocks for a 2048-pixel line, 9
-    for the four pixels of fig. 11 (l = 3)": start held high, results every l + 6 edges."""
-    assert specular.cycles(2047) + 1 == 2053 and specular.cycles(3) + 1 == 9
+    """Contract: "back-to-back lines take l + 9 clocks each: 2056 clocks for a 2048-pixel line,
+    12 for the four pixels of fig. 11 (l = 3)": start held high, results every l + 9 edges."""
+    assert specular.cycles(2047) + 1 == 2056 and specular.cycles(3) + 1 == 12
     for length in (0, 3, 10):
         d = Drive(DEFAULT)
         d.reset()
         d.edge(c=255 << 8, dz=1 << 12, z0=0, n=9, len=length)
         first = len(d.outputs)
-        period = length + 6
+        period = length + 9
         for _ in range(4 * period):
             d.edge(start=1)
         valids = ones(column(d.outputs[first:], "valid"))
-        assert valids == [period * j + 5 + i for j in range(4) for i in range(length + 1)]
+        assert valids == [period * j + 8 + i for j in range(4) for i in range(length + 1)]
         assert d.model.stats.back_to_back == 3
 
 
@@ -217,11 +218,11 @@ def test_bench_expects_reset_to_clear_and_outputs_held() -> None:
     assert (out["busy"], out["valid"], out["n_err"], out["intensity"]) == (0, 0, 0, None)
     after = d.job(tail=8)
     assert d.model.last_job.operands == {"c": 0, "dz": 0, "z0": 0, "n": 0, "len": 0}
-    assert ones(column(after, "valid")) == [5]
-    assert all((o["intensity"], o["n_err"]) == (0, 1) for o in after[5:])
+    assert ones(column(after, "valid")) == [8]
+    assert all((o["intensity"], o["n_err"]) == (0, 1) for o in after[8:])
     line = d.job(tail=8, c=255 << 8, dz=0, z0=0, n=5, len=2)
-    assert all((o["intensity"], o["n_err"]) == (0, 1) for o in line[:5])  # the last result
-    assert all((o["intensity"], o["n_err"]) == (255, 0) for o in line[5:])
+    assert all((o["intensity"], o["n_err"]) == (0, 1) for o in line[:8])  # the last result
+    assert all((o["intensity"], o["n_err"]) == (255, 0) for o in line[8:])
 
 
 # ------------------------------------------------------------------------ set-up

@@ -23,7 +23,14 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 MAX_LINES = 500
-LAYERS = {"model.units": 1, "model.render": 2, "model.study": 3, "sim": 3, "model.cli": 4}
+LAYERS = {
+    "model.units": 1,
+    "model.render": 2,
+    "model.hw": 2,
+    "model.study": 3,
+    "sim": 3,
+    "model.cli": 4,
+}
 TOP = 9  # tests and scripts
 
 

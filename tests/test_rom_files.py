@@ -302,3 +302,41 @@ def test_cocotb_run_stops_on_a_bad_image(capfd) -> None:
         run_bench("divider_shift", "sim.tb_divider", "rom_check_article", params, ARTICLE)
     out, err = capfd.readouterr()
     assert f'ROM_FILE "{wrong}": check field magic is' in out + err
+
+
+def _simulate_defaults(
+    unit: str, define: str | None, work: Path, run_in: Path | None = None
+) -> tuple[int, str]:
+    """Build rtl/<unit>.v into ``work`` with its default parameters (no ROM path passed) and, if
+    given, ``-DSHADING_ROM_DIR="<define>"``; run it in ``run_in`` (default ``work``).  Returns
+    vvp's exit status and output."""
+    flags = [] if define is None else [f'-DSHADING_ROM_DIR="{define}"']
+    vvp = work / "defaults.vvp"
+    build = subprocess.run(
+        ["iverilog", "-g2005", "-o", str(vvp), *flags, str(RTL / f"{unit}.v")],
+        cwd=work,
+        capture_output=True,
+        text=True,
+    )
+    assert build.returncode == 0, build.stdout + build.stderr
+    run = subprocess.run(
+        ["vvp", "-n", str(vvp)], cwd=run_in or work, capture_output=True, text=True
+    )
+    return run.returncode, run.stdout + run.stderr
+
+
+def test_specular_rom_dir_define_names_the_image_folder(tmp_path: Path) -> None:
+    """Compiled without Python, the default ROM files are `SHADING_ROM_DIR "/specular_...hex"`:
+    the folder given on the command line, else "rom" relative to the folder the tool runs in;
+    a folder without the images stops the run with the path it tried."""
+    status, output = _simulate_defaults("specular_unit", str(rom.ROM_DIR), tmp_path)
+    assert status == 0 and "ROM" not in output, output
+    status, output = _simulate_defaults("specular_unit", None, tmp_path, RTL)  # rtl/rom, from rtl
+    assert status == 0 and "ROM" not in output, output
+    status, output = _simulate_defaults("specular_unit", None, tmp_path)  # no rom/ there
+    assert status != 0 and f'A_ROM_FILE "rom/{specular.DEFAULT.a_rom_name}"' in output, output
+    wrong = tmp_path / "nothing"
+    status, output = _simulate_defaults("specular_unit", str(wrong), tmp_path)
+    assert status != 0, output
+    assert f'"{wrong}/{specular.DEFAULT.a_rom_name}": word 0 is undefined' in output, output
+    assert re.search(r"FATAL: .*bad ROM image", output), output

@@ -21,6 +21,8 @@ Model field -> RTL parameter (UPPER_CASE, docs/architecture.md):
   N_HI0..N_HI3, K0..K3 (an unused table: N_HI = 1000, K = 0; n_lo is implied by the previous
   n_hi, so a k_ranges with a gap has no RTL form); alpha -> ALPHA; the derived mag_int_bits ->
   MAG_INT_BITS (must equal it); A_ROM_FILE, COS_ROM_FILE are RTL-only.
+* Every unit: RESET_ALL (0 or 1, docs/fpga.md "Reset") is RTL-only and legal whatever the
+  model's fields; any other value is refused (RESET_ALL_must_be_0_or_1).
 """
 
 from __future__ import annotations
@@ -320,10 +322,22 @@ SPECULAR_CASES = [
     ),
 ]
 
+# RTL-only parameters every unit has, with their legal values (no model field maps to them)
+RTL_SWITCHES = {"RESET_ALL": (0, 1)}
+
+
+def _reset_all_cases(base: dict) -> list[Case]:
+    return [
+        Case("RESET_ALL=1", base, None, {"RESET_ALL": 1}),
+        Case("RESET_ALL=2", base, "RESET_ALL_must_be_0_or_1", {"RESET_ALL": 2}),
+        Case("RESET_ALL=-1", base, "RESET_ALL_must_be_0_or_1", {"RESET_ALL": -1}),
+    ]
+
+
 CASES = {
-    "divider_shift": DIVIDER_CASES,
-    "gouraud_segment": GOURAUD_CASES,
-    "specular_unit": SPECULAR_CASES,
+    "divider_shift": DIVIDER_CASES + _reset_all_cases(DIV),
+    "gouraud_segment": GOURAUD_CASES + _reset_all_cases(GOU),
+    "specular_unit": SPECULAR_CASES + _reset_all_cases({}),
 }
 
 
@@ -334,9 +348,11 @@ def _rtl_parameters(unit: str, case: Case) -> dict[str, object]:
 
 
 def _model_verdict(unit: str, case: Case) -> bool:
-    """True if the model accepts the set (an RTL-only set has no model form: refused)."""
+    """True if the model accepts the set (an RTL-only set has no model form: refused, unless
+    its RTL-only parameters are switches at legal values, e.g. RESET_ALL = 1)."""
     cls, _ = UNITS[unit]
-    return not case.rtl_only and _model_accepts(cls, case.fields)
+    switches_ok = all(v in RTL_SWITCHES.get(k, ()) for k, v in case.rtl_only.items())
+    return switches_ok and _model_accepts(cls, case.fields)
 
 
 def _value(v: object) -> str:
@@ -427,7 +443,8 @@ def test_case_table_agrees_with_the_model(unit: str) -> None:
         if case.rule is None and unit == "specular_unit":
             cfg = specular.SpecularConfig(**case.fields)
             want = {k: v for k, v in cfg.hdl_parameters().items() if not k.endswith("ROM_FILE")}
-            assert _rtl_parameters(unit, case) == want, case.label
+            got = {k: v for k, v in _rtl_parameters(unit, case).items() if k not in RTL_SWITCHES}
+            assert got == want, case.label
 
 
 @pytest.mark.parametrize("unit", list(CASES))

@@ -12,13 +12,31 @@ from tests.conftest import record_sim
 pytestmark = pytest.mark.sim
 
 
-@pytest.mark.parametrize("name", ["article", "n4", "n16", "default"])
-def test_divider_rtl_matches_model(request, name: str) -> None:
+# Every configuration with RESET_ALL = 0 (the default: the data path is not reset, and Icarus
+# starts it at X); RESET_ALL = 1 on the default configuration only, the tests that reset.
+REGRESSIONS = [(name, 0) for name in ("article", "n4", "n16", "default")] + [("default", 1)]
+RESET_ALL_TESTS = ["test_extremes", "test_reset_mid_division", "test_random_strobes"]
+
+
+@pytest.mark.parametrize(("name", "reset_all"), REGRESSIONS)
+def test_divider_rtl_matches_model(request, name: str, reset_all: int) -> None:
     cfg = divider.ROM_CONFIGS[name]
     params = hdl_parameters(cfg, ROM_FILE=divider.rom_path(cfg))
-    records = run_bench("divider_shift", "sim.tb_divider", f"divider_{name}", params, cfg)
+    records = run_bench(
+        "divider_shift",
+        "sim.tb_divider",
+        f"divider_{name}",
+        params,
+        cfg,
+        testcase=RESET_ALL_TESTS if reset_all else None,
+        reset_all=reset_all,
+    )
     record_sim(request, records)
     assert sum(r["compared"] for r in records) > 0
+    assert all(r["reset_all"] == reset_all for r in records), records
+    # Data outputs X between a reset and the first result only where the data path is unreset
+    x_cycles = sum(r["x_data_cycles"] for r in records)
+    assert (x_cycles > 0) if reset_all == 0 else (x_cycles == 0), records
 
 
 def test_bench_finds_the_div_zero_leak(request) -> None:

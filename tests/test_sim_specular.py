@@ -1,4 +1,5 @@
-"""Run the specular unit's cocotb bench under Icarus for the default and a narrow configuration."""
+"""Run the specular unit's cocotb bench under Icarus: the default, narrow and UP5K configurations,
+and the default with RESET_ALL = 1."""
 
 from __future__ import annotations
 
@@ -11,14 +12,31 @@ from tests.conftest import record_sim
 pytestmark = pytest.mark.sim
 
 
-@pytest.mark.parametrize("name", ["default", "narrow"])
-def test_specular_rtl_matches_model(request, name: str) -> None:
+# Every configuration with RESET_ALL = 0 (the default: the data path is not reset, and Icarus
+# starts it at X); RESET_ALL = 1 on the default configuration only, the tests that reset.
+REGRESSIONS = [(name, 0) for name in ("default", "narrow", "up5k")] + [("default", 1)]
+RESET_ALL_TESTS = ["test_extremes", "test_reset_mid_line", "test_random_strobes"]
+
+
+@pytest.mark.parametrize(("name", "reset_all"), REGRESSIONS)
+def test_specular_rtl_matches_model(request, name: str, reset_all: int) -> None:
     cfg = specular.ROM_CONFIGS[name]
     records = run_bench(
-        "specular_unit", "sim.tb_specular", f"specular_{name}", cfg.hdl_parameters(), cfg
+        "specular_unit",
+        "sim.tb_specular",
+        f"specular_{name}",
+        cfg.hdl_parameters(),
+        cfg,
+        testcase=RESET_ALL_TESTS if reset_all else None,
+        reset_all=reset_all,
     )
     record_sim(request, records)
     assert sum(r["compared"] for r in records) > 0
-    # Every n = 1..1000 went through the unit (the every-n test counts its own lines).
-    every_n = [r for r in records if r["test"] == "every_n_random_lines"]
-    assert every_n and every_n[0]["jobs"] >= specular.N_MAX
+    assert all(r["reset_all"] == reset_all for r in records), records
+    # Data outputs X between a reset and the first result only where the data path is unreset
+    x_cycles = sum(r["x_data_cycles"] for r in records)
+    assert (x_cycles > 0) if reset_all == 0 else (x_cycles == 0), records
+    if reset_all == 0:
+        # Every n = 1..1000 went through the unit (the every-n test counts its own lines).
+        every_n = [r for r in records if r["test"] == "every_n_random_lines"]
+        assert every_n and every_n[0]["jobs"] >= specular.N_MAX

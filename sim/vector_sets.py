@@ -1,0 +1,213 @@
+"""Take-away vector sets: stimulus and the model's responses, committed under sim/vectors/<set>/.
+
+``make vectors`` (``python -m sim.vector_sets``) writes, for every set in ``SETS``, the soak's
+constrained-random stimulus (sim/soak.py, a fixed seed) and the protocol model's prediction of
+every output in every cycle (sim/protocol.py) as ``$readmemh`` files, with what a simulator
+needs to replay them without Python:
+
+* ``stim.hex``, ``expect.hex``, ``mask.hex``: one hex word per cycle (sim/soak.py,
+  ``write_vectors``); the bench compares ``(got ^ expect) & mask`` with 0;
+* ``params.txt``: ``UNIT <unit>`` then one ``NAME VALUE`` line per parameter of the bench
+  ``sim/vectors/tb_<unit>.v`` (strings in double quotes; a ``"rom/..."`` path is relative to
+  ``rtl/``), read by ``sim/vectors/replay.sh``;
+* ``manifest.json``: the unit, its configuration and parameters, cycles, seed, the field layout
+  of each word (MSB first), what the stimulus covers and how to replay.
+
+``python -m sim.vector_sets --out DIR`` writes the sets elsewhere (tests/test_vectors.py
+compares a fresh copy with the committed one, byte for byte).  The sets depend on the model
+only: after a change of the model's timing (e.g. the specular unit's FILL_LATENCY) run
+``make vectors`` again.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import sys
+from dataclasses import asdict
+from pathlib import Path
+
+from model.units import divider, gouraud, specular
+from model.units.gouraud import GouraudConfig
+from sim import soak, units
+from sim.protocol import ProtocolModel
+from sim.runner import RTL_DIR, unit_parameters
+
+VECTOR_DIR = soak.VECTOR_DIR
+# The first seed tried; a set takes the first one from here on whose stimulus covers every
+# corner of the protocol (an aborted job, back-to-back jobs, ...), recorded in its manifest.
+SEED = 2026
+DEFAULT_CYCLES = 3000
+OTHER_CYCLES = 1500
+FILES = ("stim.hex", "expect.hex", "mask.hex", "params.txt", "manifest.json")
+
+# Set name -> (configuration, cycles): every unit at its default configuration and a few others.
+SETS: dict[str, tuple[units.UnitConfig, int]] = {
+    "divider_default": (divider.DEFAULT, DEFAULT_CYCLES),
+    "divider_n4": (divider.ROM_CONFIGS["n4"], OTHER_CYCLES),
+    "gouraud_default": (gouraud.DEFAULT, DEFAULT_CYCLES),
+    "gouraud_p4": (GouraudConfig(p=4), OTHER_CYCLES),
+    "gouraud_p16": (GouraudConfig(p=16), OTHER_CYCLES),
+    "specular_default": (specular.DEFAULT, DEFAULT_CYCLES),
+    "specular_narrow": (specular.NARROW, OTHER_CYCLES),
+    "specular_up5k": (specular.UP5K, OTHER_CYCLES),
+}
+
+
+def bench_parameters(cfg: units.UnitConfig) -> dict[str, int | str]:
+    """The bench's parameters for ``cfg``; ROM images as ``rom/<file>`` (relative to rtl/)."""
+    out: dict[str, int | str] = {}
+    for key, value in unit_parameters(cfg).items():
+        if isinstance(value, str | Path) and key.endswith("ROM_FILE"):
+            path = Path(value)
+            if path.parent.resolve() != (RTL_DIR / "rom").resolve():
+                raise ValueError(f"{key} = {value} is not a committed image under rtl/rom")
+            out[key] = f"rom/{path.name}"
+        elif isinstance(value, str | Path):
+            out[key] = str(value)
+        else:
+            out[key] = int(value)
+    return out
+
+
+def _fields(fields: list[tuple[str, soak.Port]]) -> list[str]:
+    """Each field as ``name[msb:lsb]`` of the word (``signed``: two's complement)."""
+    out, lsb = [], soak.width(fields)
+    for name, port in fields:
+        lsb -= port.width
+        out.append(f"{name}[{lsb + port.width - 1}:{lsb}]" + (" signed" if port.signed else ""))
+    return out
+
+
+def covers(stats: soak.Stats) -> bool:
+    """The stimulus reached every corner of the protocol (as the soak requires)."""
+    s = stats
+    return (
+        s.results_compared > 0
+        and s.jobs_aborted > 0
+        and s.back_to_back > 0
+        and s.writes_at_start > 0
+        and s.writes_ignored > 0
+        and s.starts_ignored > 0
+    )
+
+
+def covering_stimulus(
+    cfg: units.UnitConfig, cycles: int
+) -> tuple[int, list[soak.Inputs], soak.Prediction]:
+    """The stimulus of the first seed from SEED on whose run covers every corner (``covers``)."""
+    for seed in range(SEED, SEED + 50):
+        stim = soak.stimulus(cfg, cycles, seed)
+        pred = soak.predict(cfg, stim)
+        if covers(pred.stats):
+            return seed, stim, pred
+    raise RuntimeError(f"no seed from {SEED} on covers the protocol in {cycles} cycles")
+
+
+def manifest(name: str, cfg: units.UnitConfig, cycles: int, seed: int, stats: dict) -> dict:
+    spec = units.spec(cfg)
+    sf, of = soak.stim_fields(spec), soak.out_fields(spec)
+    params = bench_parameters(cfg)
+    return {
+        "set": name,
+        "unit": spec.toplevel,
+        "bench": f"sim/vectors/tb_{spec.toplevel}.v",
+        "rtl": f"rtl/{spec.toplevel}.v",
+        "config": {"type": type(cfg).__name__, **asdict(cfg)},
+        "parameters": params,
+        "reset_all": [0, 1],
+        "cycles": cycles,
+        "seed": seed,
+        "stimulus": f"sim/soak.py stimulus(cfg, {cycles}, seed={seed})",
+        "files": {
+            "stim": {"file": "stim.hex", "bits": soak.width(sf), "fields": _fields(sf)},
+            "expect": {"file": "expect.hex", "bits": soak.width(of), "fields": _fields(of)},
+            "mask": {
+                "file": "mask.hex",
+                "bits": soak.width(of),
+                "fields": "as expect: 1 = compare the bit, 0 = the output is undefined there",
+            },
+        },
+        "timing": "cycle i: drive stim[i], rising clock edge, 1 ns later compare the outputs",
+        "coverage": stats,
+        "replay": [
+            f"sim/vectors/replay.sh {name} icarus",
+            f"sim/vectors/replay.sh {name} verilator",
+        ],
+        "generated_by": "make vectors (python -m sim.vector_sets), from the model",
+    }
+
+
+def params_text(cfg: units.UnitConfig, cycles: int) -> str:
+    spec = units.spec(cfg)
+    lines = [
+        f"# Parameters of sim/vectors/tb_{spec.toplevel}.v for this set (sim/vectors/replay.sh).",
+        '# NAME VALUE; a string in double quotes, "rom/..." relative to rtl/ (make vectors).',
+        f"UNIT {spec.toplevel}",
+    ]
+    for key, value in {**bench_parameters(cfg), "CYCLES": cycles}.items():
+        lines.append(f'{key} "{value}"' if isinstance(value, str) else f"{key} {value}")
+    return "\n".join(lines) + "\n"
+
+
+def write_set(name: str, out_dir: Path) -> Path:
+    """Write set ``name`` into ``out_dir/<name>/``; returns that folder."""
+    cfg, cycles = SETS[name]
+    spec = units.spec(cfg)
+    folder = out_dir / name
+    if folder.exists():
+        shutil.rmtree(folder)
+    seed, stim, pred = covering_stimulus(cfg, cycles)
+    # RESET_ALL = 1 defines the data outputs from the reset on: its prediction must agree with
+    # the committed one (RESET_ALL = 0) wherever that one is defined, so one set serves both.
+    full = ProtocolModel(spec, units.expect(cfg), True)
+    for cycle, (inputs, want) in enumerate(zip(stim, pred.outputs, strict=True)):
+        got = full.step(inputs)
+        bad = {k: (v, got[k]) for k, v in want.items() if v is not None and got[k] != v}
+        if bad:
+            raise AssertionError(
+                f"{name}: RESET_ALL = 1 predicts otherwise in cycle {cycle}: {bad}"
+            )
+    soak.write_vectors(spec, stim, pred.outputs, folder)
+    stats = {k: v for k, v in asdict(pred.stats).items() if k != "errors"}
+    (folder / "params.txt").write_text(params_text(cfg, cycles))
+    text = json.dumps(manifest(name, cfg, cycles, seed, stats), indent=2) + "\n"
+    (folder / "manifest.json").write_text(text)
+    return folder
+
+
+def write_all(out_dir: Path = VECTOR_DIR, names: list[str] | None = None) -> list[Path]:
+    out_dir.mkdir(parents=True, exist_ok=True)
+    if names is None and out_dir == VECTOR_DIR:
+        # a set no longer in SETS goes
+        for old in out_dir.iterdir():
+            if (old / "manifest.json").exists() and old.name not in SETS:
+                shutil.rmtree(old)
+    return [write_set(name, out_dir) for name in (names or list(SETS))]
+
+
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(
+        prog="python -m sim.vector_sets",
+        description="Write the committed vector sets (sim/vectors/<set>/) from the model.",
+    )
+    parser.add_argument(
+        "--out", type=Path, default=VECTOR_DIR, help="folder (default: %(default)s)"
+    )
+    parser.add_argument("sets", nargs="*", help=f"sets (default: all of {', '.join(SETS)})")
+    args = parser.parse_args(argv)
+    unknown = [s for s in args.sets if s not in SETS]
+    if unknown:
+        parser.error(f"no set {', '.join(unknown)}: legal are {', '.join(SETS)}")
+    total = 0
+    for folder in write_all(args.out.resolve(), args.sets or None):
+        size = sum((folder / f).stat().st_size for f in FILES)
+        total += size
+        print(f"{folder}: {SETS[folder.name][1]} cycles, {size / 1024:.0f} kB")
+    print(f"{total / 1024:.0f} kB in all")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,195 @@
+"""make synth: one real synthesis + place and route, the parsers on its files, the refusals,
+and docs/synth.json recorded from the current RTL, ROM images and parameters.
+
+The real run is the divider at its article configuration (9-bit dividend, 5-bit divisor) on the
+iCE40 HX8K: a few seconds with the yowasp tools, into a fresh cache folder.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from model.hw import PARTS, TARGETS, UNITS, SynthResult, default_runs, parse, report, synthesise
+from model.hw import synth as hw_synth
+from model.hw.wrapper import ports, wrapper_verilog
+from model.units import divider
+
+ROOT = Path(__file__).resolve().parent.parent
+RECORD = ROOT / "docs" / "synth.json"
+
+# The lines of a real nextpnr-ice40 log (specular_unit, default configuration, on the HX8K)
+# that say the design does not fit.
+HX8K_OVERFLOW_LOG = """\
+Info: Device utilisation:
+Info: \t         ICESTORM_LC:    3156/   7680    41%
+Info: \t        ICESTORM_RAM:      69/     32   215%
+Info: \t               SB_IO:       6/    206     2%
+ERROR: Unable to place cell 'u_unit.a_rom.0.3_RAM', no BELs remaining to implement cell type \
+'ICESTORM_RAM'
+"""
+
+
+@pytest.fixture(scope="module")
+def small(tmp_path_factory: pytest.TempPathFactory) -> tuple[SynthResult, float, Path]:
+    """A real run into an empty cache: (result, seconds it took, its run folder)."""
+    cache = tmp_path_factory.mktemp("synth") / "cache"
+    mp = pytest.MonkeyPatch()
+    mp.setenv("SYNTH_CACHE", str(cache))
+    start = time.monotonic()
+    result = synthesise("divider_shift", divider.ARTICLE, "hx8k", seed=1)
+    took = time.monotonic() - start
+    yield result, took, hw_synth.run_dir(result)
+    mp.undo()
+
+
+def test_small_run_gives_sane_figures(small: tuple[SynthResult, float, Path]) -> None:
+    r, _, _ = small
+    assert (r.unit, r.config, r.part, r.seed) == ("divider_shift", "article", "hx8k", 1)
+    # the unit's own cells: operand registers (9 + 5), shift register, accumulator, control
+    assert 40 <= r.lut <= 400 and 50 <= r.ff <= 200
+    assert (r.bram, r.dsp) == (0, 0)  # a 32-word ROM stays in LUTs
+    assert dict(r.other).get("SB_CARRY", 0) > 0
+    assert r.fits and r.overflow == ""
+    assert 50 <= r.fmax_mhz <= 400
+    assert r.path_ns == pytest.approx(1000 / r.fmax_mhz, rel=0.15)
+    assert r.path_from.startswith("u_unit.") or r.path_to.startswith("u_unit.")
+    util = {k: (u, a) for k, u, a in r.utilisation}
+    # the design (wrapper included) uses more logic cells than the unit alone, six IOs
+    assert util["ICESTORM_LC"][0] > r.lut and util["SB_IO"] == (6, 206)
+    assert r.target_mhz is None and r.meets_target is None and r.ok
+    assert dict(r.tools)["yosys"].startswith("Yosys ")
+
+
+def test_cache_hit_returns_the_same_result_at_once(small: tuple[SynthResult, float, Path]) -> None:
+    r, took, _ = small
+    start = time.monotonic()
+    again = synthesise("divider_shift", "article", "hx8k", seed=1)
+    assert time.monotonic() - start < 0.5 < took
+    assert again == r
+    assert (Path(hw_synth.cache_dir()) / f"{r.key}.json").is_file()
+
+
+def test_parsers_on_the_real_run(small: tuple[SynthResult, float, Path]) -> None:
+    r, _, folder = small
+    stat = (folder / "stat.json").read_text()
+    modules = parse.stat_modules(stat)
+    assert set(modules) == {"divider_shift", "synth_top"}
+    cells = parse.classify(modules["divider_shift"], "ice40")
+    assert (cells.lut, cells.ff, cells.bram, cells.dsp, cells.other) == (
+        r.lut, r.ff, r.bram, r.dsp, r.other,
+    )  # fmt: skip
+    # the wrapper: two flip-flops per input bit (17) and one per output bit (20)
+    top = parse.classify(modules["synth_top"], "ice40")
+    assert top.ff == 2 * 17 + 20
+    assert parse.yosys_version(stat) == dict(r.tools)["yosys"]
+    rep = (folder / "report.json").read_text()
+    timing = parse.report_timing(rep)
+    assert (timing.fmax_mhz, timing.path_ns) == (r.fmax_mhz, r.path_ns)
+    assert parse.report_utilisation(rep) == r.utilisation
+    assert parse.log_overflow((folder / "nextpnr.log").read_text()) is None
+
+
+def test_overflow_is_read_from_the_log() -> None:
+    assert parse.log_overflow(HX8K_OVERFLOW_LOG) == "ICESTORM_RAM 69/32"
+    last = HX8K_OVERFLOW_LOG.splitlines()[-1]
+    assert parse.log_overflow(last) is None or "ICESTORM_RAM" in parse.log_overflow(last)
+    assert parse.log_overflow("Info: Program finished normally.\n") is None
+
+
+def test_wrapper_reads_the_ports_from_the_rtl() -> None:
+    params = hw_synth.synth_parameters("divider_shift", divider.DEFAULT)
+    got = {
+        p.name: (p.direction, p.width)
+        for p in ports(hw_synth.RTL_DIR / "divider_shift.v", "divider_shift", params)
+    }
+    assert got["a_in"] == ("input", 21) and got["k_in"] == ("input", 11)
+    assert got["q"] == ("output", 41) and got["valid"] == ("output", 1)
+
+
+@pytest.mark.parametrize(
+    ("args", "words"),
+    [
+        (("adder", None, "hx8k"), ["'adder'", "divider_shift", "specular_unit"]),
+        (("divider_shift", None, "xc9"), ["'xc9'", "up5k", "ecp5-25f"]),
+        (("divider_shift", "up5k", "hx8k"), ["'up5k'", "default", "article"]),
+        (("gouraud_segment", divider.DEFAULT, "hx8k"), ["DividerConfig", "GouraudConfig"]),
+    ],
+)
+def test_bad_input_is_refused(args: tuple, words: list[str]) -> None:
+    with pytest.raises(ValueError) as err:
+        synthesise(*args)
+    for word in words:
+        assert word in str(err.value)
+    with pytest.raises(ValueError, match="seed"):
+        synthesise("divider_shift", None, "hx8k", seed=-1)
+
+
+def test_cli_refuses_an_unknown_part() -> None:
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "scripts" / "synth.py"), "--parts", "xc9"],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+    )
+    assert proc.returncode == 2 and "'xc9'" in proc.stderr and "hx8k" in proc.stderr
+
+
+def test_a_missed_target_fails_the_run(small: tuple[SynthResult, float, Path]) -> None:
+    r, _, _ = small
+    missed = SynthResult(**{**r.to_json(), "target_mhz": 1000.0, "meets_target": False})
+    unfit = SynthResult(**{**r.to_json(), "target_mhz": 10.0, "fits": False, "overflow": "X 2/1"})
+    assert report.failures([r]) == []
+    assert "misses the target 1000 MHz" in report.failures([missed])[0]
+    assert "does not fit hx8k: X 2/1" in report.failures([unfit])[0]
+    assert "**NO**" in report.table([missed]) and "**no** (X 2/1)" in report.table([unfit])
+
+
+def test_every_target_is_in_the_default_runs() -> None:
+    runs = default_runs()
+    assert set(TARGETS) <= set(runs)
+    assert {p for _, _, p in runs} == set(PARTS) and {u for u, _, _ in runs} == set(UNITS)
+
+
+def test_the_record_is_current() -> None:
+    """docs/synth.json was made from the RTL, ROM images and parameters there are now, and holds
+    every run of make synth (remake it: make synth SYNTH_ARGS='--record docs/synth.json')."""
+    data = json.loads(RECORD.read_text())
+    results = [SynthResult.from_json(r) for r in data["results"]]
+    assert {(r.unit, r.config, r.part) for r in results} >= set(default_runs())
+    stale = []
+    for r in results:
+        now = hw_synth.run_inputs(r.unit, r.config)
+        if dict(r.inputs) != now:
+            changed = [k for k in now if dict(r.inputs).get(k) != now[k]]
+            stale.append(f"{r.unit} ({r.config}) on {r.part}: {', '.join(changed)} changed")
+    assert not stale, "docs/synth.json is stale:\n" + "\n".join(stale)
+
+
+@pytest.mark.parametrize("unit", list(UNITS))
+def test_every_unit_gets_a_wrapper(unit: str) -> None:
+    """Every port of the unit's RTL is wired: inputs from the hold register, outputs captured."""
+    _, cfg = hw_synth.config_named(unit, "up5k" if unit == "specular_unit" else None)
+    params = hw_synth.synth_parameters(unit, cfg)
+    found = ports(hw_synth.RTL_DIR / f"{unit}.v", unit, params)
+    text = wrapper_verilog(unit, found, params)
+    for p in found:
+        assert f".{p.name}(" in text
+    assert text.count("\n    input  wire ") == 5 and text.count("\n    output wire ") == 1
+
+
+def test_cells_are_counted_per_family() -> None:
+    """Cell names as the real runs of make synth give them (docs/synth.json)."""
+    ecp5 = parse.classify(
+        {"LUT4": 10, "CCU2C": 3, "PFUMX": 2, "TRELLIS_FF": 5, "DP16KD": 2, "MULT18X18D": 1}, "ecp5"
+    )
+    assert (ecp5.lut, ecp5.ff, ecp5.bram, ecp5.dsp) == (16, 5, 2, 1)
+    gowin = parse.classify({"LUT4": 4, "LUT2": 1, "ALU": 3, "DFFRE": 2, "SDPB": 1}, "gowin")
+    assert (gowin.lut, gowin.ff, gowin.bram) == (8, 2, 1)
+    xc7 = parse.classify({"LUT6": 2, "CARRY4": 1, "FDRE": 3, "RAMB36E1": 1, "DSP48E1": 2}, "xilinx")
+    assert (xc7.lut, xc7.ff, xc7.bram, xc7.dsp) == (2, 3, 2, 2)

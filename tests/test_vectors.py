@@ -1,0 +1,123 @@
+"""The committed vector sets (sim/vectors/<set>/, make vectors) and their Python-free replay.
+
+* every committed set equals what the model writes now, byte for byte (a stale set fails);
+* every set replays clean under Icarus through sim/vectors/replay.sh, and each unit's default
+  set under Verilator (one Verilator build per unit): both RESET_ALL instances, every cycle;
+* the bench fails loudly: a corrupted expected word gives a MISMATCH line naming its cycle and
+  a non-zero exit under both simulators; a short file is refused.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import re
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from sim import vector_sets
+
+pytestmark = pytest.mark.sim
+
+REPLAY = vector_sets.VECTOR_DIR / "replay.sh"
+DONE = re.compile(r"^VECTORS (\d+) cycles (\d+) mismatches$", re.M)
+
+
+def replay(set_dir: str | Path, tool: str, build: Path) -> subprocess.CompletedProcess:
+    return subprocess.run(
+        [str(REPLAY), str(set_dir), tool],
+        capture_output=True,
+        text=True,
+        env={**os.environ, "REPLAY_BUILD": str(build)},
+        timeout=600,
+    )
+
+
+def assert_clean(ran: subprocess.CompletedProcess, cycles: int) -> None:
+    log = ran.stdout + ran.stderr
+    assert ran.returncode == 0, log
+    done = DONE.search(log)
+    assert done and int(done.group(1)) == cycles and done.group(2) == "0", log
+    assert re.search(r"^PASS .*RESET_ALL = 0 and 1 compared", log, re.M), log
+    assert "MISMATCH" not in log, log
+
+
+def test_committed_sets_are_current(tmp_path: Path) -> None:
+    """make vectors now writes exactly the committed files (run it after a model change)."""
+    vector_sets.write_all(tmp_path)
+    committed = sorted(p.parent.name for p in vector_sets.VECTOR_DIR.glob("*/manifest.json"))
+    assert committed == sorted(vector_sets.SETS), "run make vectors: the sets differ from SETS"
+    stale = []
+    for name in vector_sets.SETS:
+        for f in vector_sets.FILES:
+            if (vector_sets.VECTOR_DIR / name / f).read_bytes() != (
+                tmp_path / name / f
+            ).read_bytes():
+                stale.append(f"{name}/{f}")
+    assert not stale, f"stale vector files (run make vectors): {stale}"
+
+
+def test_sets_are_small_and_cover_the_protocol() -> None:
+    total = 0
+    for name, (_, cycles) in vector_sets.SETS.items():
+        folder = vector_sets.VECTOR_DIR / name
+        total += sum((folder / f).stat().st_size for f in vector_sets.FILES)
+        manifest = json.loads((folder / "manifest.json").read_text())
+        assert manifest["cycles"] == cycles and manifest["seed"] >= vector_sets.SEED
+        for kind in ("stim", "expect", "mask"):
+            lines = (folder / f"{kind}.hex").read_text().splitlines()
+            assert len(lines) == cycles, (name, kind)
+        c = manifest["coverage"]
+        assert c["results_compared"] > 0 and c["jobs_aborted"] > 0 and c["back_to_back"] > 0, c
+        assert c["writes_at_start"] > 0 and c["starts_ignored"] > 0, c
+    assert total < 1_000_000, f"the vector sets take {total} bytes"
+
+
+@pytest.mark.parametrize("name", list(vector_sets.SETS))
+def test_replay_icarus(name: str, tmp_path: Path) -> None:
+    assert_clean(replay(name, "icarus", tmp_path), vector_sets.SETS[name][1])
+
+
+@pytest.mark.parametrize("name", ["divider_default", "gouraud_default", "specular_default"])
+def test_replay_verilator(name: str, tmp_path: Path) -> None:
+    assert_clean(replay(name, "verilator", tmp_path), vector_sets.SETS[name][1])
+
+
+def corrupt(src: Path, dst: Path) -> int:
+    """A copy of set ``src`` in ``dst`` with one compared bit of one expected word flipped."""
+    dst.mkdir()
+    for f in vector_sets.FILES:
+        (dst / f).write_bytes((src / f).read_bytes())
+    expect = (dst / "expect.hex").read_text().splitlines()
+    mask = (dst / "mask.hex").read_text().splitlines()
+    cycle = next(i for i in range(len(mask) // 2, len(mask)) if int(mask[i], 16) & 1)
+    expect[cycle] = f"{int(expect[cycle], 16) ^ 1:0{len(expect[cycle])}x}"
+    (dst / "expect.hex").write_text("\n".join(expect) + "\n")
+    return cycle
+
+
+@pytest.mark.parametrize("tool", ["icarus", "verilator"])
+def test_a_wrong_expected_word_fails_loudly(tool: str, tmp_path: Path) -> None:
+    cycle = corrupt(vector_sets.VECTOR_DIR / "divider_n4", tmp_path / "bad")
+    ran = replay(tmp_path / "bad", tool, tmp_path / "build")
+    log = ran.stdout + ran.stderr
+    assert ran.returncode != 0, log
+    for r in (0, 1):
+        assert re.search(
+            rf"^MISMATCH cycle {cycle} RESET_ALL={r} got \w+ expected \w+ mask \w+$", log, re.M
+        ), log
+    assert re.search(r"^FAIL .*2 mismatches", log, re.M), log
+
+
+def test_a_short_file_is_refused(tmp_path: Path) -> None:
+    bad = tmp_path / "short"
+    bad.mkdir()
+    src = vector_sets.VECTOR_DIR / "divider_n4"
+    for f in vector_sets.FILES:
+        (bad / f).write_bytes((src / f).read_bytes())
+    lines = (bad / "mask.hex").read_text().splitlines()
+    (bad / "mask.hex").write_text("\n".join(lines[:-5]) + "\n")
+    ran = replay(bad, "icarus", tmp_path / "build")
+    assert ran.returncode != 0 and "has fewer than CYCLES" in ran.stdout, ran.stdout + ran.stderr
