@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 # Two commands on a fresh machine: `make demo` and `make test` (see README.md).
 # Every target creates .venv and installs what is missing by itself; a second run is quick.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Bit-exact golden models of three shading units, the renderer above them and the studies.
 
 Packages, arrows pointing down only (``tests/test_layers.py`` checks them):

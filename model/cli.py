@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Command line: ``python -m model <command>`` (also installed as ``shading``); ``<command> --help``
 shows each command's options and examples.
 

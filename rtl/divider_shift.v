@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /*
  * Shift-add divider (Romanyuk & Obidnyk): q = a * round(2^N / k), N = RECIP_BITS.
  *

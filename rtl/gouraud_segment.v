@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /*
  * Segment Gouraud unit (Romanyuk): P pixels of a scan line per clock, I0 + i*dI, i = 0..P-1.
  *

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 /*
  * Specular unit of patent UA 71489 (fig. 1): I = C * cos^k(a(n) * |zeta|) per pixel along a
  * scan line, zeta(0) = z0, zeta(i) = zeta(i-1) + dz, for the l + 1 pixels of a line of l

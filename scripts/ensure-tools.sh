@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Make sure a simulator/linter binary is on PATH: install it with apt-get when running as root,
 # otherwise stop with a message saying what to install.  Usage: ensure-tools.sh iverilog [verilator]
 set -euo pipefail

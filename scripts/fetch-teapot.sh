@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Fetch the Utah teapot's Bezier patches (28 bicubic patches, "BBP" format) into data/teapot.bez.
 # The data comes from Debian's geomview package (/usr/share/geomview/geom/teapot.bez); only that
 # one file is extracted from the .deb, nothing is installed.  Usage: scripts/fetch-teapot.sh [dest]

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Synthesise, place and route the RTL units on real FPGA parts and print the figures (make synth).
 
 Every run goes through ``model.hw.synthesise`` (Yosys, then nextpnr with a fixed seed; results

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Command line of the RTL side: ``python -m sim <command>``; ``<command> --help`` shows each
 command's options and examples.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Shared cocotb machinery for the unit benches: a driver and a protocol monitor/scoreboard.
 
 Every unit has the same protocol (docs/architecture.md): operand registers written by

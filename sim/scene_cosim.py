@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Scene co-simulation: every span of a scene through the three RTL units under Icarus.
 
 The rasteriser and the float set-up run in Python (the patent's external device).  The units'

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Constrained-random soak: random strobes, start timing and resets, every output every cycle.
 
 ``stimulus(cfg, cycles, seed)`` draws what a careless host could do to a unit, cycle by cycle:

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """cocotb bench of rtl/divider_shift.v against model.divider (run by tests/test_sim_divider.py)."""
 
 from __future__ import annotations

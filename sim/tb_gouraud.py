@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """cocotb bench of rtl/gouraud_segment.v against model.gouraud (run by tests/test_sim_gouraud.py).
 
 Every segment (packed ``pixels``, ``mask``, ``last``) is compared bit for bit with

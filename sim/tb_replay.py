@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Replay bench: push a file of operand sets through one unit and record what the RTL outputs.
 
 The scene co-simulation uses it: ``BENCH_JOBS`` names a JSON file ``{"jobs": [{operand: value}]}``,

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """cocotb bench of rtl/specular_unit.v against model.specular (run by tests/test_sim_specular)."""
 
 from __future__ import annotations

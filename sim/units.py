@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Each unit's ports and its golden-model job, per configuration (no cocotb, no simulator).
 
 ``spec(cfg)`` lists the operand registers and result outputs of the RTL built for ``cfg``

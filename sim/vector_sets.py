@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Take-away vector sets: stimulus and the model's responses, committed under sim/vectors/<set>/.
 
 ``make vectors`` (``python -m sim.vector_sets``) writes, for every set in ``SETS``, the soak's

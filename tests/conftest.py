@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Shared pytest set-up: the RTL regression summary; the seed variables checked once."""
 
 from __future__ import annotations

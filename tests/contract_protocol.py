@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The benches' expectation, driven without a simulator, for the contract tests (docs/*.md).
 
 Every cocotb test (``sim/common.py``'s ProtocolMonitor) and every vector soak (``sim/soak.py``)

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Every accuracy figure is a worst case: ``python -m model accuracy`` (``model.accuracy``).
 
 The figures are checked three ways: the printed value is the computed one rounded *up* (never a

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The batched unit calls equal the per-line public calls, row by row (issue 12).
 
 ``divider.divide_many``, ``gouraud.shade_lines`` and ``specular.shade_lines`` are what the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The command lines (issue 12): ``shading <command>`` / ``python -m model <command>`` and
 ``python -m sim bench``.
 

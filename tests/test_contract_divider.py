@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Contract sentences of the shift-add divider (docs/divider.md) that no other test checked.
 
 Each test names the sentence it holds the model (or the benches' expectation) to; the table in

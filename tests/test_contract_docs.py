@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The contract tables of docs/<unit>.md point at tests that exist (issue 11, part 2).
 
 Each unit's page opens with "## Contract: every sentence and its test": a table

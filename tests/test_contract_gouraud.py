@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Contract sentences of the segment Gouraud unit (docs/gouraud.md) that no other test checked.
 
 Each test names the sentence it holds the model (or the benches' expectation) to; the table in

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The shift-add divider model: the article reproduced, exactness, cycles, bad input, ROM files."""
 
 from __future__ import annotations

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Every repository path the documents name exists, and every local link resolves (issue 12).
 
 Read: README.md and docs/*.md (the whole text), the comments of the Verilog files (rtl/*.v,

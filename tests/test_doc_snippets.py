@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The Python examples of the pages run as written: each ```python block of the pages below is
 executed in a fresh namespace (from the repository's folder), and must not raise."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """FuseSoC cores (rtl/*.core) and plain file lists (rtl/*.f) of the three units.
 
 ``fusesoc --cores-root rtl core list`` lists the three cores; for each, the lint target

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Gate-level simulation, a quick subset of ``make gate`` (sim/gate.py).
 
 Each unit's Yosys netlist (generic ``synth``) replays the unit's default vector set under

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The segment Gouraud unit model: the article's table, the derived network, exactness against
 per-pixel accumulation, conversion and saturation, widths, timing, bad input."""
 

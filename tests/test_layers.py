@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The package map holds: imports point down only, no private name crosses a module, no cycle.
 
 Layers (model/__init__.py): ``model.units`` 1 < ``model.render`` 2 < ``model.study`` 3 and

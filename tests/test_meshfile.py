@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Mesh files as people have them: every format, messy geometry repaired or reported, any up axis.
 
 Each defect has its own small mesh, made here (as arrays or as the text of a file), and the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Metrics on known inputs, and the image helpers."""
 
 from __future__ import annotations

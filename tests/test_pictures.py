@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The pictures README.md and docs/ show exist and are current (`make pictures` remakes them).
 
 docs/pictures.json, written by `make pictures`, records per picture the command that makes it

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The hybrid pipeline: batched kernels equal the units' public calls; methods; accuracy."""
 
 from __future__ import annotations

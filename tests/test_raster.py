@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The float rasteriser: fill rule, coverage, depth test, culling, span set-up, slerp, shaders."""
 
 from __future__ import annotations

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The README's method table is what ``make demo`` measures (teapot, 256 x 256).
 
 Each row's NMSE (6 decimals), max error (levels) and table bits are recomputed in-process with

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Float reference shaders, the 8-bit quantisation and the per-triangle highlight test."""
 
 from __future__ import annotations

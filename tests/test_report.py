@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The method comparison behind `make demo` and `make bench`, on a small scene."""
 
 from __future__ import annotations

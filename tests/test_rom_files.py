@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """ROM images are validated loudly: by the model's loader and by the RTL at time 0.
 
 The model (``model.rom.read_hex``) names the file, the line, what it expected (depth, width, hex

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The RTL refuses exactly the parameter sets the model refuses, at elaboration, under every tool.
 
 For each unit, boundary sets (legal just inside and illegal just outside each check of the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Structural claims of the RTL, checked on the netlist Yosys elaborates (docs/<unit>.md).
 
 * the segment Gouraud unit has no multiplier: for P = 2, 4, 8, 16 the elaborated design has no

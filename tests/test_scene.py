@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Scenes: the built-in scenes are valid, the teapot tessellation, OBJ/PLY through trimesh,
 bad input."""
 

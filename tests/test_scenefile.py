@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Scene files: the built-in scenes are files, every field is checked, transforms and framing.
 
 A bad field is refused with one message naming the file, the field, its value and what is

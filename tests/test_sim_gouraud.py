@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Run the segment Gouraud unit's cocotb bench under Icarus for several configurations."""
 
 from __future__ import annotations

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Scene co-simulation: a 64 x 64 sphere with a highlight rendered through the three RTL units."""
 
 from __future__ import annotations

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Run the specular unit's cocotb bench under Icarus: the default, narrow and UP5K configurations,
 and the default with RESET_ALL = 1."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Constrained-random soaks: 100k cycles per unit through the plain Verilog vector benches.
 
 Random strobes, start timing and resets, writes in the start cycle and in busy cycles, values

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The specular unit's model: decoder, BRDF figures, ROMs, datapath, accuracy, stability, set-up.
 
 Size: one file for the unit's model tests (646 lines, 30 tests, a third of them the set-up's

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The trade study's machinery: keys, knob mapping, the Dask sweep with its cache, the fronts."""
 
 from __future__ import annotations

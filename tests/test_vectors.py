@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The committed vector sets (sim/vectors/<set>/, make vectors) and their Python-free replay.
 
 * every committed set equals what the model writes now, byte for byte (a stale set fails);

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The units on real FPGA parts: synthesis, place and route, resources and Fmax (make synth).
 
 ``synthesise(unit, config, part)`` runs Yosys and nextpnr (the yowasp packages) on one unit

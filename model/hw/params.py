@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """A unit configuration -> the Verilog parameters of its RTL (docs/architecture.md).
 
 Shared by simulation (``sim.runner`` re-exports both calls) and synthesis (``model.hw.synth``):

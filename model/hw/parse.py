@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Read what the tools write: Yosys ``stat -json``, nextpnr's ``--report`` JSON and its log.
 
 Each call takes the text (or the parsed JSON) and returns plain Python values, so the tests run

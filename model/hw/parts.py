@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The FPGA parts ``make synth`` places and routes on, and the clock each unit must reach.
 
 A ``Part`` names its Yosys synthesis command, its nextpnr place-and-route call (None: synthesis

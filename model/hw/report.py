@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The synthesis table (markdown) and record (JSON) of a list of ``SynthResult``s."""
 
 from __future__ import annotations

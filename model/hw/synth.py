@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """``synthesise(unit, config, part)``: Yosys synthesis, nextpnr place and route, the figures.
 
 The unit (its RTL as it is in rtl/, parameters from ``model.hw.params``) goes behind the six-pin

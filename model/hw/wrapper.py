@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The Verilog top level every synthesis run places and routes: six pins around one unit.
 
 A unit has far more ports than a small part has pins (the UP5K in its SG48 package has 39 user

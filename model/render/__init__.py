@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Scenes through the units: meshes and scenes, the float rasteriser, the float reference
 shaders and the pipeline that runs a scene's spans through the bit-exact units.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Meshes the renderer builds: the sphere, torus and domed quad, the Utah teapot, and a camera and
 light that frame any mesh.
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Mesh files as people have them: every triangle format trimesh reads, repaired, oriented, framed.
 
 Owns ``read_mesh`` (a file to a ``LoadedMesh``: the ``Mesh``, what was repaired, which way is

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The hybrid shading pipeline: spans from the float rasteriser through the bit-exact units.
 
 Per span of ``l`` intervals (``l + 1`` pixels), as the patent's external device would drive them:

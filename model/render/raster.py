@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The float rasteriser: the "external device" of the patent that feeds the shading units.
 
 Owns projection, back-face culling, the edge walk with the top-left fill rule, the span

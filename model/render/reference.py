@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Float span shaders (the accuracy references) and the thesis's per-triangle highlight test.
 
 Owns the float shaders (``exact_blinn``, ``phong``, ``gouraud_float``, ``SHADERS``,

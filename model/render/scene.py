@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Scene description for the renderer: camera, light, viewer, materials and meshes as arrays.
 
 Owns the checks every scene value goes through (``check_range``, ``check_int``, ``check_choice``,

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Scene files (TOML), the built-in scenes written as such files, and where a scene comes from.
 
 Owns ``read_scene`` (a TOML file to a ``Scene``), ``builtin_scene`` with ``SCENE_NAMES`` and

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Shading a raster: the shader interface, the frame a shader's pixels end up in, and its costs.
 
 Owns ``Shader`` with what it gets and returns (``ShadeContext``, ``ShadeResult``, ``per_span``),

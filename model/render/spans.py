@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Spans: what the rasteriser hands a shader, one scan-line segment of one triangle per row.
 
 Owns ``Span`` (one span as the hardware set-up sees it), ``Spans`` (the spans of one object as a

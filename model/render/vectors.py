@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Vector kernels and the lighting set-up shared by the rasteriser and the shaders.
 
 Owns the numba kernels on unit 3-vectors (``norm3``, ``slerp3``, ``light_view``, ``half``, their

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Every accuracy figure the unit pages state, each a worst case (``python -m model accuracy``).
 
 ``figures()`` computes them (the heavy work is in the units' accuracy sections: exhaustive

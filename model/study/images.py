@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Image output: PNG files (Pillow), error heat-maps and a labelled side-by-side sheet
 (matplotlib, Agg backend: no display needed), and the digest of what a picture plots.
 

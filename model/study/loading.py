@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """How fast a mesh file loads (``python -m model bench-load``, part of ``make bench``).
 
 Owns ``load_bench`` (a mesh of about ``triangles`` triangles written in every format of

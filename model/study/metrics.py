@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Image accuracy metrics against a reference image (method (a), exact Blinn).
 
 All metrics work on 8-bit images ((H, W, 3) uint8, or any array of 0..255 values), converted to

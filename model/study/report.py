@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Methods side by side on one scene: images, accuracy against (a), hardware cost, speed.
 
 The methods (``METHOD_LABELS``): (a) exact float Blinn with per-pixel spherical interpolation of

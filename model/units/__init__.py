@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The golden model proper: every unit's bit-exact arithmetic, its configuration and its ROMs.
 
 Owns ``fixed`` (named rounding and saturation steps, operand checks), ``rom`` (the ``$readmemh``

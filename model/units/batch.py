@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Batched unit calls: their result ``LineBatch`` and the placement checks they share.
 
 ``gouraud.shade_lines`` and ``specular.shade_lines`` run many lines through a unit in one call

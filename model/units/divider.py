@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Shift-add divider (Romanyuk & Obidnyk, docs/divider.md): a / k as a * sum of 2**-j.
 
 The reciprocal 1/k is stored as the ROM word ``r = round(2**N / k)`` (N = ``recip_bits``), whose

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Shared fixed-point helpers: ranges, operand checks, rounding, saturation, bit patterns.
 
 Every unit states its formats as ``Qm.f`` (m integer bits, f fraction bits, signed or not) and

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """ROM images as ``$readmemh`` files: the one way tables travel from the model to the RTL.
 
 An image (``format_image``) is a ``//`` comment header, the ``depth`` data words of the ROM (one

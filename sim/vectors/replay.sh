@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: Apache-2.0
 # Replay a committed vector set through its unit's plain Verilog bench, no Python involved.
 #
 #   sim/vectors/replay.sh <set> [icarus|verilator|both]     (default: icarus)

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Vector bench of rtl/specular_unit.v: replays stim.hex, checks every output every cycle
 // against expect.hex / mask.hex (written from the model by sim/soak.py and sim/vector_sets.py),
 // in one instance with RESET_ALL = 0 and one with RESET_ALL = 1.  Plain Verilog-2005; with

@@ -1,3 +1,4 @@
+// SPDX-License-Identifier: Apache-2.0
 // Shared body of the vector benches (sim/vectors/tb_<unit>.v), included inside the module.
 //
 // The including bench declares the parameters CYCLES, STIM_FILE, EXPECT_FILE, MASK_FILE and

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Saved mutants: the current RTL with one known defect put in, to prove the benches find it.
 
 Each mutant is the unit's file from ``rtl/`` with one exact snippet replaced, made afresh for

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The speed/accuracy trade study (``make trade``): every knob a config, swept over the scenes.
 
 The package: ``points`` (trade points, the knobs, the grids, the scenes a point names),

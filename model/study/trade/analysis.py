@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """The fronts of a trade run: per-configuration rows, Pareto masks and where the default lies.
 
 Owns ``aggregate`` (one row per configuration over the scenes, with its Pareto marks),

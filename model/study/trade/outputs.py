@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """What a trade run writes: the CSV of every point, the markdown tables and the Pareto plots.
 
 Owns ``write_outputs`` (``results.csv``, ``results.md``, ``pareto_cycles.png``,

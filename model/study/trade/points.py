@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Trade points: the knobs, their values, the grids of configurations, the scenes a point names.
 
 Owns ``TradePoint`` (a scene, a size, one value per knob) with its cache ``key``

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Evaluating trade points: the figures of one point, the result cache and the Dask engine.
 
 Owns ``evaluate`` (one point's accuracy and cost figures, a flat dict) with its helpers, the

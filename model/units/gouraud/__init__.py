@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Segment Gouraud unit (Romanyuk, docs/gouraud.md): P pixels of a scan line per clock.
 
 Along a scan line the intensity grows by a constant increment: ``I(x) = I0 + x*dI``.  The unit

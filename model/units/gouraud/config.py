@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Segment Gouraud unit: configuration (widths, segment size P) and the default unit.
 
 Owns ``LANE_COUNTS`` (the P the unit accepts), ``GouraudConfig`` with its formats and the

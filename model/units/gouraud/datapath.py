@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Segment Gouraud unit: the bit-exact datapath, per line, per segment and for a batch of lines.
 
 Owns the numba kernels of the article's figs. 3 and 4 (segment adders, output conversion), the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Segment Gouraud unit: the increment network, derived from the segment size P.
 
 Owns how the multiples i*dI (i = 1..P) are made from wired shifts and a few adders

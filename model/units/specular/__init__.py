@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Specular unit of patent UA 71489 (docs/specular.md): ``I = C * cos^k(a * zeta)`` per pixel.
 
 Blinn's highlight ``cos^n(delta)`` along a scan line becomes, after the float set-up of the

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Specular unit: the fixed-point unit's accuracy, exhaustively, and the README's tables.
 
 Owns ``fixed_point_accuracy`` (the unit against cos^n and against its float approximation, for

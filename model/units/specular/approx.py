@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Specular unit: the float approximation cos^k(a d) of cos^n d and its exact worst errors.
 
 Owns ``brdf_approx`` and the certified maxima of its relative error in the highlight's epicentre

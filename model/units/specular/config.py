@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Specular unit: configuration (formats, table choice, the a(n) mapping), named configurations.
 
 Owns the unit's constants (``N_WIDTH``, ``N_MAX``, ``FILL_LATENCY``, the k ranges), the float

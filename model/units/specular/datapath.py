@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Specular unit: the bit-exact datapath, per line (``shade_line``) and for a batch of lines.
 
 Owns the numba kernels of fig. 1 (accumulate, |acc| x a, ROM 12, x C, round, saturate), the

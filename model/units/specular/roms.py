@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Specular unit: the decoder (block 10), ROM 9 (a per n) and ROM 12 (the cos^k tables).
 
 Owns what the decoder answers (``decode_k``, ``decode_k_patent9``, ``n_valid``), the ROM

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: Apache-2.0
 """Specular unit: the float set-up of the patent's "external device", from end vectors to registers.
 
 Owns ``setup_line`` / ``setup_lines`` (N, H at the line's ends -> the registers C, dz, z0 of
