@@ -229,3 +229,17 @@ def test_the_specular_page_quotes_the_record(row: str, config: str, part: str) -
     assert cells[2] == f"{r.fmax_mhz:.1f} MHz" and cells[3] == f"{r.target_mhz:g} MHz"
     assert (cells[4], cells[5]) == (str(r.lut), str(r.ff))
     assert cells[6].startswith(f"{r.bram} ") and cells[7].startswith(f"{r.dsp} ")
+
+
+def test_the_up5k_specular_configuration_places_and_routes_on_the_up5k(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """Issue 13's UP5K row, placed and routed here (a fresh cache, so in every CI run) through
+    the six-pin wrapper: it fits the UP5K (block RAMs within its 30) and meets 40 MHz."""
+    monkeypatch.setenv("SYNTH_CACHE", str(tmp_path / "cache"))
+    r = synthesise("specular_unit", "up5k", "up5k", seed=1)
+    util = {k: (u, a) for k, u, a in r.utilisation}
+    assert r.fits and r.overflow == "", r.overflow
+    assert util["ICESTORM_RAM"][0] == r.bram <= util["ICESTORM_RAM"][1] == 30
+    assert util["SB_IO"][0] == 6 <= util["SB_IO"][1]
+    assert r.target_mhz == 40 and r.meets_target and r.fmax_mhz >= 40, r.fmax_mhz
