@@ -128,11 +128,21 @@ def synthesise(set_name: str, target: str, reset_all: int, build: Path) -> tuple
     folder = build / set_name / f"{target}_r{reset_all}"
     folder.mkdir(parents=True, exist_ok=True)
     netlist = folder / f"{unit}_netlist.v"
+    # The WebAssembly Yosys sees the host's /tmp as its own private /tmp: a clone or a ROM under
+    # /tmp is out of its reach by absolute path.  The RTL and ROM images are copied into the
+    # build folder and named relative to it.
+    shutil.copyfile(RTL_DIR / f"{unit}.v", folder / f"{unit}.v")
+    for name, value in params.items():
+        if name.endswith("ROM_FILE"):
+            rom = Path(value.strip('"'))
+            (folder / "rom").mkdir(exist_ok=True)
+            shutil.copyfile(rom, folder / "rom" / rom.name)
+            params = {**params, name: f'"rom/{rom.name}"'}
     chparams = " ".join(
         f"-set {k} {v}" for k, v in {**params, "RESET_ALL": str(reset_all)}.items() if k != "CYCLES"
     )
     script = (
-        f"read_verilog -defer {RTL_DIR / (unit + '.v')}; chparam {chparams} {unit}; "
+        f"read_verilog -defer {unit}.v; chparam {chparams} {unit}; "
         f"hierarchy -top {unit}; {SYNTH[target].format(top=unit)}; "
         f"tee -q -o stat.txt stat; write_verilog -noattr {netlist.name}"
     )
