@@ -11,7 +11,7 @@ PYTEST := $(PY) -m pytest
 # Parallel pytest workers for the cocotb regressions (each bench builds in its own folder).
 JOBS   ?= auto
 
-.PHONY: setup tools demo test model-test sim lint roms synth bench trade pictures accuracy clean
+.PHONY: setup tools demo test model-test sim lint roms synth bench trade pictures accuracy clean formal
 
 setup: $(STAMP) data/teapot.bez
 
@@ -105,6 +105,15 @@ pictures: setup
 SYNTH_ARGS ?=
 synth: setup
 	$(PY) scripts/synth.py --out out/synth $(SYNTH_ARGS)
+
+# Formal proofs (docs/formal.md) with SymbiYosys and z3 from .venv: the divider's protocol
+# properties by k-induction, its quotient, every cover reached, every property failing on a broken
+# copy of the RTL (the released divider's div_zero leak among them) and the synthesised netlist
+# proven equal to the RTL; prints the table, writes out/formal/formal.json.  Overrides, e.g.
+# make formal FORMAL_ARGS='--quick' or FORMAL_ARGS='--jobs 2'
+FORMAL_ARGS ?=
+formal: setup
+	$(PY) scripts/formal.py --out out/formal $(FORMAL_ARGS)
 
 # Take-away vector sets (docs/fpga.md, "Vector benches"): stimulus and the model's responses of
 # every unit, written into sim/vectors/<set>/ (committed; run again after a model change), and
