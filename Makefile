@@ -106,10 +106,11 @@ SYNTH_ARGS ?=
 synth: setup
 	$(PY) scripts/synth.py --out out/synth $(SYNTH_ARGS)
 
-# Formal proofs (docs/formal.md) with SymbiYosys and z3 from .venv: the divider's protocol
-# properties by k-induction, its quotient, every cover reached, every property failing on a broken
-# copy of the RTL (the released divider's div_zero leak among them) and the synthesised netlist
-# proven equal to the RTL; prints the table, writes out/formal/formal.json.  Overrides, e.g.
+# Formal proofs (docs/formal.md) with SymbiYosys and z3 from .venv, for the divider and the
+# Gouraud unit (not yet the specular unit): protocol properties by k-induction, the arithmetic,
+# every cover reached, every property failing on a broken copy of the RTL (the released divider's
+# div_zero leak among them) and the synthesised netlist proven equal to the RTL; prints the table,
+# writes out/formal/formal.json (about 8 minutes on 2 cores).  Overrides, e.g.
 # make formal FORMAL_ARGS='--quick' or FORMAL_ARGS='--jobs 2'
 FORMAL_ARGS ?=
 formal: setup

