@@ -11,7 +11,7 @@ PYTEST := $(PY) -m pytest
 # Parallel pytest workers for the cocotb regressions (each bench builds in its own folder).
 JOBS   ?= auto
 
-.PHONY: setup tools demo test model-test sim lint roms synth bench trade pictures accuracy clean formal
+.PHONY: setup tools demo test model-test sim lint roms synth bench trade pictures accuracy clean formal fit
 
 setup: $(STAMP) data/teapot.bez
 
@@ -105,6 +105,14 @@ pictures: setup
 SYNTH_ARGS ?=
 synth: setup
 	$(PY) scripts/synth.py --out out/synth $(SYNTH_ARGS)
+
+# Fit the units to the teapot (docs/fit.md): the knob search, the fitted and the default design
+# placed and routed on ECP5-25F and UP5K, the fitted RTL against the model on every span; the
+# bundle into out/fit/teapot/, the record into docs/fit_teapot.json and docs/fit.md.
+fit: setup tools
+	$(PY) -m model fit --scene teapot --size 256 --part ecp5-25f --part up5k --out out/fit/teapot
+	cp out/fit/teapot/fit.json docs/fit_teapot.json
+	$(PY) scripts/fit_docs.py docs/fit_teapot.json docs/fit.md
 
 # Formal proofs (docs/formal.md) with SymbiYosys and z3 from .venv, for the divider and the
 # Gouraud unit (not yet the specular unit): protocol properties by k-induction, the arithmetic,

@@ -9,6 +9,9 @@ Packages, arrows pointing down only (``tests/test_layers.py`` checks them):
   pipeline that pushes a scene's spans through the units; imports ``units``;
 * ``model.study``  — metrics, images, reports, accuracy figures, the trade study; imports
   ``render`` and ``units``;
+* ``model.hw``     — synthesis, place and route, formal proofs of the RTL; imports ``units``;
+* ``model.fit``    — fitting the units to a scene (``shading fit``): analysis, knob search,
+  synthesised cost, the bundle; imports ``study``, ``hw``, ``render`` and ``units``;
 * ``model.cli``    — the command line on top (``python -m model``, ``shading``).
 
 ``from model import divider, gouraud, specular`` and ``from model.specular import ...`` keep

@@ -26,64 +26,9 @@ from pathlib import Path
 
 from model.render import meshfile, scenefile
 from model.units import divider, specular
-from model.units.fixed import format_up
 
 PROG = "shading"
 SCENES = list(scenefile.SCENE_NAMES)
-
-
-def divider_table1(recip_bits: int = 8, dividend: int = 255) -> list[dict]:
-    """Table 1 of the article, recomputed: terms, error and relative error for k = 2..16."""
-    cfg = divider.DividerConfig(a_width=9, k_width=5, recip_bits=recip_bits)
-    rows = []
-    for k in range(2, 17):
-        approx = divider.divide(dividend, k, cfg) / 2.0**recip_bits
-        exact = dividend / k
-        rows.append(
-            {
-                "k": k,
-                "terms": "+".join(f"1/{2**j}" for j in divider.reciprocal_terms(k, recip_bits)),
-                "error": approx - exact,
-                "relative_pct": 100.0 * (approx - exact) / exact,
-            }
-        )
-    return rows
-
-
-def format_table1() -> str:
-    rows = divider_table1()
-    lines = ["| k | terms | error | relative % |", "|---|---|---|---|"]
-    lines += [
-        f"| {r['k']} | {r['terms']} | {r['error']:+.4f} | {r['relative_pct']:+.2f} |" for r in rows
-    ]
-    worst = max(rows, key=lambda r: abs(r["error"]))
-    mean_rel = sum(abs(r["relative_pct"]) for r in rows) / len(rows)
-    lines.append("")
-    lines.append(  # the largest rounded up (a bound), like every worst case (accuracy.format_up)
-        f"max |error| {format_up(abs(worst['error']), 5)} at k = {worst['k']}; "
-        f"mean |relative error| over k = 2..16: {format_up(mean_rel, 4)} %"
-    )
-    return "\n".join(lines)
-
-
-def format_trade(k_max: int = 2047, bits: range = range(4, 21)) -> str:
-    lines = [
-        f"| N | worst abs error (255/k) | at k | worst rel error | at k | k with r = 0 "
-        f"| cycles max | cycles mean | (k = 1..{k_max}) |",
-        "|---|---|---|---|---|---|---|---|---|",
-    ]
-    for n in bits:
-        r = divider.trade_row(n, k_max)
-        lines.append(
-            f"| {n} | {format_up(r.worst_abs_error, 4)} | {r.worst_abs_k} "
-            f"| {format_up(r.worst_rel_error, 3, 100)} % "
-            f"| {r.worst_rel_k} | {r.useless_k} | {r.cycles_max} | {r.cycles_mean:.2f} | |"
-        )
-    lines.append("")
-    lines.append(
-        f"exact restoring divider, default widths: {divider.cycles_exact()} cycles for every k"
-    )
-    return "\n".join(lines)
 
 
 def accuracy_report() -> str:
@@ -105,9 +50,9 @@ def accuracy_report() -> str:
         "== Specular: per configuration ==",
         specular.format_config_table(figs.specular),
         "== Divider: worst error of 255/k and cycles, every k ==",
-        format_trade(),
+        accuracy.format_trade(),
         "== Divider: the article's Table 1 ==",
-        format_table1(),
+        accuracy.format_table1(),
         f"(computed in {time.perf_counter() - began:.1f} s)",
     ]
     return "\n\n".join(parts)
@@ -125,16 +70,34 @@ def scene_notes(source: scenefile.SceneSource) -> list[str]:
     return [source.read().summary()] if source.kind == "mesh" else []
 
 
-def demo(source: scenefile.SceneSource, size: int, out_dir: Path, log_error: bool = False) -> int:
+def demo(
+    source: scenefile.SceneSource,
+    size: int,
+    out_dir: Path,
+    log_error: bool = False,
+    config: Path | None = None,
+) -> int:
     """The main job: the scene (a built-in name, a scene file or a mesh file) through every
-    method, images into ``out_dir``, the table."""
+    method, images into ``out_dir``, the table; with ``config`` (a pipeline configuration file,
+    ``shading fit`` writes one) also the units at that configuration, as the method "config"."""
+    from model.render import configfile
     from model.study import report
+
+    methods, configs = None, {}
+    if config is not None:
+        try:
+            configs = {"config": configfile.read_config(config)}
+        except ValueError as exc:
+            raise report.SetupError(f"argument --config: {' '.join(str(exc).split())}", 2) from None
+        methods = [*report.METHOD_LABELS, "config"]
 
     began = time.perf_counter()
     print(f"== {source.label}, {size} x {size}: every method against (a) exact Blinn ==")
     for line in scene_notes(source):
         print(line)
-    run = report.run_methods(source.scene(size, size), progress=True)
+    run = report.run_methods(
+        source.scene(size, size), methods=methods, progress=True, configs=configs
+    )
     print(report.format_table(run))
     print("\n== What the scene requires of the hardware ==")
     print(report.requirements(run))
@@ -296,6 +259,29 @@ def build_parser() -> argparse.ArgumentParser:
         action="store_true",
         help="error heat-maps on a symmetric-log scale (linear to 1 level, then decades)",
     )
+    p.add_argument(
+        "--config",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="also shade with the units at this pipeline configuration (a TOML file, e.g. the "
+        "config.toml of a `shading fit` bundle), as the method 'config'",
+    )
+
+    p = _command(
+        sub,
+        "fit",
+        "Fit the units to a scene: the cheapest design meeting an accuracy target, written as a "
+        "bundle (configuration, Verilog, ROMs, FuseSoC core, report; docs/fit.md).",
+        "  shading fit                                   # the teapot, NMSE <= 0.00025\n"
+        "  shading fit --scene sphere --size 128 --nmse 0.0001 --part up5k\n"
+        "  shading fit --mesh head.obj --max-error 16 --out out/fit/head",
+    )
+    _scene_or_mesh(p)
+    _size(p, 256)
+    from model.fit import command as fit_cmd
+
+    fit_cmd.add_arguments(p)
 
     p = _command(
         sub,
@@ -345,7 +331,7 @@ def build_parser() -> argparse.ArgumentParser:
         "resumable); CSV, markdown and Pareto plots in --out.",
         "  shading trade\n"
         "  shading trade --scenes sphere torus --size 64 --workers 4\n"
-        "  shading trade --mesh bunny.obj --mesh part.ply --scheduler tcp://10.0.0.5:8786",
+        "  shading trade --mesh bunny.obj --scheduler tcp://10.0.0.5:8786 --config fit.toml",
     )
     p.add_argument(
         "--scenes",
@@ -393,6 +379,16 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--figure", type=Path, default=None, metavar="DIR", help="also write trade_pareto.png here"
     )
+    p.add_argument(
+        "--part", default="ecp5-25f",
+        help="synthesise the sweep's units on this part (up5k, hx8k, ecp5-25f, gw1nr-9, xc7; "
+        "default ecp5-25f) for the LUT, FF, BRAM, DSP, Fmax, Mpx/s columns; none: skip",
+    )  # fmt: skip
+    p.add_argument(
+        "--config", type=Path, action="append", default=[], metavar="FILE", dest="configs",
+        help="a pipeline configuration file (e.g. out/fit/<scene>/config.toml) swept as one "
+        "more point, marked on every plot (repeatable)",
+    )  # fmt: skip
 
     _command(
         sub,
@@ -459,6 +455,8 @@ def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
             figure_dir=args.figure,
             meshes=args.meshes,
             up=args.up,
+            part=args.part,
+            configs=args.configs,
         )
     if args.command in ("demo", "bench"):
         source = args.scene
@@ -469,7 +467,14 @@ def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
         from model.study import report
 
         report.check_output_dir("--out", args.out)
-        return demo(source, args.size, args.out, args.log_error)
+        return demo(source, args.size, args.out, args.log_error, args.config)
+    if args.command == "fit":
+        from model.fit import command as fit_cmd
+
+        source = args.scene
+        if args.mesh is not None:
+            source = check_mesh(args.command_parser, args.mesh, args.up)
+        return fit_cmd.run_command(args, source, scene_notes(source))
     if args.command == "bench-load":
         from model.study import loading
 
@@ -479,9 +484,13 @@ def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
     elif args.command == "roms":
         write_roms()
     elif args.command == "divider-table":
-        print(format_table1())
+        from model.study import accuracy
+
+        print(accuracy.format_table1())
     elif args.command == "divider-trade":
-        print(format_trade())
+        from model.study import accuracy
+
+        print(accuracy.format_trade())
     elif args.command == "accuracy":
         print(accuracy_report())
     return 0

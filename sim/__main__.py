@@ -63,7 +63,7 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="examples:\n"
         "  python -m sim bench                          # sphere, 64 x 64\n"
         "  python -m sim bench --scene torus --size 48\n"
-        "  python -m sim bench --mesh bunny.obj --size 32",
+        "  python -m sim bench --scene teapot --size 128 --config out/fit/teapot/config.toml",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     where = p.add_mutually_exclusive_group()
@@ -97,10 +97,29 @@ def build_parser() -> argparse.ArgumentParser:
         help=f"image width and height, 8..{scene.MAX_RESOLUTION} (default: 64; the "
         "co-simulation shades tens of pixels a second, its three Icarus builds included)",
     )
+    p.add_argument(
+        "--config",
+        type=config_arg,
+        default=None,
+        metavar="FILE",
+        help="the units at this pipeline configuration (a TOML file, e.g. the config.toml of a "
+        "`shading fit` bundle) instead of method (c)",
+    )
     return parser
 
 
-def bench(source: scenefile.SceneSource, size: int) -> int:
+def config_arg(text: str):
+    """An argparse ``type``: a pipeline configuration file, read while the arguments are parsed
+    (``configfile.read_config``); a bad one is refused in one line, exit status 2."""
+    from model.render import configfile
+
+    try:
+        return configfile.read_config(text)
+    except ValueError as exc:
+        raise argparse.ArgumentTypeError(" ".join(str(exc).split())) from None
+
+
+def bench(source: scenefile.SceneSource, size: int, config=None) -> int:
     """The scene through the RTL units and the model: speed, and whether the images are equal."""
     import numpy as np
 
@@ -121,8 +140,20 @@ def bench(source: scenefile.SceneSource, size: int) -> int:
         return 1
     name, target = source.label, source.scene(size, size)
     print(f"== python -m sim bench: {name}, {size} x {size}, three RTL units under Icarus ==")
-    cosim = cosimulate(target, size, tag="scene_bench")
+    cosim = cosimulate(target, size, config or "hybrid", tag="scene_bench")
     same = bool(np.array_equal(cosim.rtl_rgb, cosim.model_rgb))
+    for unit in cosim.jobs:
+        print(
+            f"  {unit}: {cosim.jobs[unit]} jobs, {cosim.results[unit]} results compared with the "
+            f"model, {cosim.cycles[unit]} cycles, {cosim.seconds[unit]:.1f} s"
+        )
+    if not same:
+        ys, xs = np.nonzero(np.any(cosim.rtl_rgb != cosim.model_rgb, axis=2))
+        y, x = ys[0], xs[0]
+        print(
+            f"MISMATCH: {ys.size} pixels differ, first at x = {x}, y = {y}: RTL "
+            f"{cosim.rtl_rgb[y, x].tolist()}, model {cosim.model_rgb[y, x].tolist()}"
+        )
     print(
         f"co-simulation ({name} {size} x {size}): {cosim.pixels} pixels in "
         f"{sum(cosim.seconds.values()):.1f} s = {cosim.pixels_per_second:.0f} pixels/s "
@@ -141,7 +172,7 @@ def main(argv: list[str] | None = None) -> int:
         except ValueError as exc:
             args.command_parser.error(f"argument --mesh: {' '.join(str(exc).split())}")
     # one command today; the subcommand keeps room for more
-    return bench(source, args.size)
+    return bench(source, args.size, args.config)
 
 
 if __name__ == "__main__":

@@ -9,7 +9,9 @@ work runs in RTL, in the order the data flows:
    (``pipeline.increment_from_quotient``);
 2. every (I_start, dI, l + 1) line through ``gouraud_segment``; the lanes its ``mask`` marks are
    the line's pixels;
-3. every span's registers (C, dz, z0, n, l) through ``specular_unit``;
+3. every span's registers (C, dz, z0, n, l) through ``specular_unit``, and after each object's
+   highlight jobs its diffuse jobs (methods with ``diffuse_mode`` "unit" or "adaptive": one per
+   span and colour channel, ordinary jobs with n = 1);
 4. ``pipeline.assemble`` sums and saturates, and the rasteriser's depth test writes the frame.
 
 Each RTL run is a replay (``sim/tb_replay.py``): its protocol monitor still checks every result
@@ -26,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from model.hw.synth import synth_parameters
 from model.render import pipeline, raster, scene, scenefile, shade
 from model.render.pipeline import PipelineConfig, UnitJobs
 from model.render.shade import ShadeContext
@@ -107,15 +110,18 @@ def _gouraud_lines(outputs: list[list[dict]], lane_bits: int) -> list[np.ndarray
 def cosimulate(
     scene_name: str | scene.Scene = "sphere",
     size: int = 64,
-    method: str = "hybrid",
+    method: str | PipelineConfig = "hybrid",
     tag: str = "scene",
 ) -> CosimResult:
     """Render ``scene_name`` at ``size`` x ``size`` through the RTL units and through the model.
 
     ``scene_name`` is a built-in scene's name, or a ``scene.Scene`` (a scene file's or a mesh
     file's, ``scenefile.SceneSource.scene``), rendered at its own camera's size (``size`` is then
-    unused)."""
-    cfg = pipeline.METHODS[method]
+    unused).  ``method`` is one of ``pipeline.METHODS`` or any ``PipelineConfig`` (a fitted one:
+    the ROM images it needs and the repository does not hold are written into
+    ``sim_build/<tag>_roms/``)."""
+    cfg = method if isinstance(method, PipelineConfig) else pipeline.METHODS[method]
+    roms = SIM_BUILD / f"{tag}_roms"
     if isinstance(scene_name, scene.Scene):
         frame_scene = scene_name
     else:
@@ -131,7 +137,7 @@ def cosimulate(
         for a_arr, k_arr in div_ops
         for a, k in zip(a_arr, k_arr, strict=True)
     ]
-    div_params = hdl_parameters(cfg.divider, ROM_FILE=pipeline.divider.rom_path(cfg.divider))
+    div_params = synth_parameters("divider_shift", cfg.divider, roms)
     div = _replay("divider_shift", cfg.divider, div_params, div_jobs, f"{tag}_divider")
     quotients = iter(out[0]["q"] for out in div["outputs"])
 
@@ -160,22 +166,22 @@ def cosimulate(
     )
     gouraud_lines = iter(_gouraud_lines(gouraud["outputs"], cfg.gouraud.i_int))
 
-    # 3. The specular unit.
-    spec_jobs = [
-        {
-            "c": int(o.jobs.spec_c[j]),
-            "dz": int(o.jobs.spec_dz[j]),
-            "z0": int(o.jobs.spec_z0[j]),
-            "n": int(o.jobs.spec_n[j]),
-            "len": int(o.jobs.intervals[s]),
-        }
-        for o in objects.values()
-        for j, s in enumerate(o.jobs.spec_span)
-    ]
+    # 3. The specular unit: each object's highlight jobs, then its diffuse jobs (n = 1).
+    spec_jobs = []
+    for o in objects.values():
+        j = o.jobs
+        for regs, spans in (
+            ((j.spec_c, j.spec_dz, j.spec_z0, j.spec_n), j.spec_span),
+            ((j.diff_c, j.diff_dz, j.diff_z0, j.diff_n), j.diff_span),
+        ):
+            spec_jobs += [
+                {"c": int(c), "dz": int(dz), "z0": int(z0), "n": int(n), "len": int(l_int)}
+                for c, dz, z0, n, l_int in zip(*regs, j.intervals[spans], strict=True)
+            ]
     spec = _replay(
         "specular_unit",
         cfg.specular,
-        hdl_parameters(cfg.specular),
+        synth_parameters("specular_unit", cfg.specular, roms),
         spec_jobs,
         f"{tag}_specular",
     )
@@ -194,7 +200,10 @@ def cosimulate(
         s_out = np.zeros(npix, dtype=np.int64)
         for s in o.jobs.spec_span:
             s_out[o.offsets[s] : o.offsets[s + 1]] = next(spec_lines)
-        rtl_pixels[obj] = pipeline.assemble(g_out, s_out)
+        d_out = np.zeros((npix, channels), dtype=np.int64)
+        for s, c in zip(o.jobs.diff_span, o.jobs.diff_channel, strict=True):
+            d_out[o.offsets[s] : o.offsets[s + 1], c] = next(spec_lines)
+        rtl_pixels[obj] = pipeline.assemble(g_out, s_out, diffuse_out=d_out)
 
     def replay_shader(spans: Spans, ctx: ShadeContext) -> np.ndarray:
         return rtl_pixels[ctx.obj]

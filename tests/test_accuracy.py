@@ -9,6 +9,7 @@ reduced configuration the search equals a brute force over every input.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from decimal import Decimal
 from fractions import Fraction
@@ -17,8 +18,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from model.cli import format_trade
 from model.study import accuracy
+from model.study.accuracy import format_trade
 from model.units import divider, gouraud, specular
 from model.units.specular import DEFAULT, SpecularConfig
 
@@ -349,3 +350,17 @@ def test_gouraud_drift_at_the_default_longest_line() -> None:
     q = (2 * d + (m - 1)) // (2 * (m - 1))  # floor(d / (m-1) + 1/2), exact integers
     assert np.abs((m - 1) * q - d).max() / 2.0**cfg.i_frac == gouraud.drift_worst(cfg)
     assert gouraud.drift_worst(cfg) == gouraud.drift_bound(cfg)  # 2046 is even
+
+
+def test_a_kept_range_unit_is_measured_on_its_kept_n_only() -> None:
+    """A unit keeping n = 17..40 (``specular.KEPT``) refuses every other n: its exhaustive
+    figures are those of the same unit keeping every n, on 17..40, and 0 elsewhere."""
+    kept, full = specular.KEPT, dataclasses.replace(specular.KEPT, n_first=1, n_last=1000)
+    a, b = specular.fixed_point_accuracy(kept), specular.fixed_point_accuracy(full)
+    inside = slice(kept.n_first - 1, kept.n_last)
+    for name in ("rom_rel", "out_lsb_exact", "out_lsb_approx"):
+        mine, theirs = getattr(a, name), getattr(b, name)
+        np.testing.assert_array_equal(mine[inside], theirs[inside], err_msg=name)
+        assert not mine[: kept.n_first - 1].any() and not mine[kept.n_last :].any(), name
+        assert mine[inside].max() > 0, name
+    np.testing.assert_array_equal(a.float_rel, b.float_rel)

@@ -18,7 +18,7 @@ from model.units.specular import DEFAULT, N_MAX, SpecularConfig
 from sim import soak, units
 from tests.contract_protocol import Drive, column, ones
 
-CONFIGS = list(specular.ROM_CONFIGS.items())
+CONFIGS = list(specular.ROM_CONFIGS.items()) + list(specular.KEPT_CONFIGS.items())
 IDS = [name for name, _ in CONFIGS]
 BENCH_CONFIGS = [("default", specular.DEFAULT), ("narrow", specular.NARROW)]
 PATENT_K = {1: 1, 2: 2, **dict.fromkeys(range(3, 7), 4), **dict.fromkeys(range(7, 1001), 16)}
@@ -68,8 +68,9 @@ def test_ports_are_the_documented_ones(name: str, cfg: SpecularConfig) -> None:
 @pytest.mark.parametrize(("name", "cfg"), CONFIGS, ids=IDS)
 def test_parameters_are_the_documented_ones(name: str, cfg: SpecularConfig) -> None:
     """Contract: "Parameters: C_INT_BITS ... OUT_WIDTH (the config fields), NUM_TABLES (1..4) and
-    N_HI0..N_HI3 (the decoder), MAG_INT_BITS (derived by the model), A_ROM_FILE and COS_ROM_FILE
-    (named ...). cfg.hdl_parameters() gives them all for a configuration." (It also gives K0..K3
+    N_HI0..N_HI3 (the decoder), MAG_INT_BITS (derived by the model), N_FIRST and N_LAST (the kept
+    range), A_ROM_FILE and COS_ROM_FILE (named ...). cfg.hdl_parameters() gives them all for a
+    configuration." (It also gives K0..K3
     and ALPHA, which the RTL header documents: checks only.)"""
     params = cfg.hdl_parameters()
     fields = [
@@ -83,6 +84,8 @@ def test_parameters_are_the_documented_ones(name: str, cfg: SpecularConfig) -> N
         "rom_addr_bits",
         "rom_data_bits",
         "out_width",
+        "n_first",
+        "n_last",
     ]
     for f in fields:
         assert params[f.upper()] == getattr(cfg, f), f
@@ -90,7 +93,8 @@ def test_parameters_are_the_documented_ones(name: str, cfg: SpecularConfig) -> N
     hi = [params[f"N_HI{j}"] for j in range(4)]
     assert hi[: cfg.num_tables] == [r[1] for r in cfg.k_ranges]
     assert params["MAG_INT_BITS"] == cfg.mag_int_bits
-    a_rom = f"specular_a_{cfg.alpha}_{cfg.rom_tag}_q{cfg.a_int_bits}.{cfg.a_frac_bits}.hex"
+    kept = "" if (cfg.n_first, cfg.n_last) == (1, N_MAX) else f"_keep{cfg.n_first}-{cfg.n_last}"
+    a_rom = f"specular_a_{cfg.alpha}_{cfg.rom_tag}_q{cfg.a_int_bits}.{cfg.a_frac_bits}{kept}.hex"
     ks = "-".join(str(k) for k in cfg.ks)
     cos_rom = f"specular_cos_k{ks}_a{cfg.rom_addr_bits}_d{cfg.rom_data_bits}.hex"
     for key, file in (("A_ROM_FILE", a_rom), ("COS_ROM_FILE", cos_rom)):
@@ -109,16 +113,17 @@ def test_parameters_are_the_documented_ones(name: str, cfg: SpecularConfig) -> N
 # ------------------------------------------------------------------------ the ROMs
 @pytest.mark.parametrize(("name", "cfg"), CONFIGS, ids=IDS)
 def test_rom9_holds_round_a_for_every_n(name: str, cfg: SpecularConfig) -> None:
-    """Contract: "a (ROM 9, 1024 words): unsigned Q A_INT_BITS.A_FRAC_BITS, round(a 2^14) [a =
-    sqrt(n/k) for the patent's taylor a]; 0 for n = 0 and n > 1000": every word of the committed
+    """Contract: "a (ROM 9, one word per kept n = N_FIRST..N_LAST at address n - N_FIRST: 1000
+    words by default): unsigned Q A_INT_BITS.A_FRAC_BITS, round(a 2^14) [a = sqrt(n/k) for the
+    patent's taylor a]; no word for n = 0, n > 1000 or a dropped n": every word of the committed
     image."""
     words = specular.read_rom(cfg, "a")
-    assert len(words) == 1024 and words[0] == 0 and not any(words[N_MAX + 1 :])
-    for n in range(1, N_MAX + 1):
+    assert len(words) == cfg.n_last - cfg.n_first + 1 == (N_MAX if name != "kept" else 24)
+    for n in range(cfg.n_first, cfg.n_last + 1):
         k = specular.decode_k(n, cfg)
         a = math.sqrt(n / k) if cfg.alpha == "taylor" else specular.alpha_value(n, k, cfg.alpha)
-        assert words[n] == math.floor(a * 2**cfg.a_frac_bits + 0.5), n
-        assert words[n] < 1 << cfg.a_width
+        assert words[n - cfg.n_first] == math.floor(a * 2**cfg.a_frac_bits + 0.5), n
+        assert words[n - cfg.n_first] < 1 << cfg.a_width
 
 
 @pytest.mark.parametrize(("name", "cfg"), CONFIGS, ids=IDS)
@@ -147,9 +152,9 @@ def test_mag_int_bits_is_the_smallest_width_that_reaches_pi_over_2(
     name: str, cfg: SpecularConfig
 ) -> None:
     """Contract: "abs(zeta) saturated to MAG_INT_BITS integer bits (the smallest width at which
-    every clamped value times the smallest a of any n already reaches pi/2, so the clamp never
-    changes a result)"."""
-    a_min = int(specular.rom9_words(cfg)[1 : N_MAX + 1].min())
+    every clamped value times the smallest a of any kept n already reaches pi/2, so the clamp
+    never changes a result)"."""
+    a_min = int(specular.rom9_words(cfg)[cfg.n_first : cfg.n_last + 1].min())
     one = 1 << (cfg.z_frac_bits + cfg.a_frac_bits)  # pi/2 in the product's units
 
     def reaches(m: int) -> bool:
@@ -159,8 +164,9 @@ def test_mag_int_bits_is_the_smallest_width_that_reaches_pi_over_2(
     assert reaches(m) and (m == 0 or not reaches(m - 1))
     # ... and a clamped value does give 0 for every n: the address rounds to pi/2 or beyond.
     mag_max = (1 << cfg.mag_width) - 1
-    for n in (1, 2, 3, 7, N_MAX):
-        assert not specular.shade_line(cfg.c_format.hi, 0, mag_max, n, 0, cfg).any()
+    for n in (1, 2, 3, 7, 17, 40, N_MAX):
+        if specular.n_valid(n, cfg):
+            assert not specular.shade_line(cfg.c_format.hi, 0, mag_max, n, 0, cfg).any()
 
 
 # ------------------------------------------------------------------------ timing (bench model)
@@ -187,6 +193,43 @@ def test_bench_expects_the_documented_timing(name: str, cfg: SpecularConfig) -> 
                 assert got == values.tolist() and flags == {0}
             else:
                 assert got == [0] * (length + 1) and flags == {1}
+
+
+def test_kept_range_drops_every_other_n_like_an_invalid_n() -> None:
+    """Contract: "n_first and n_last (N_FIRST, N_LAST): ROM 9 holds a for n_first..n_last only;
+    every other n runs with the same timing, every pixel 0 with n_err = 1; 1 <= n_first <=
+    n_last <= 1000, else ValueError naming the field, its value and the legal range;
+    mag_int_bits (and the largest a's check) take the kept range only"."""
+    cfg, c = specular.KEPT, specular.KEPT.c_format.hi
+    for n in (0, 1, 16, 17, 40, 41, 1000, 1023):
+        kept = cfg.n_first <= n <= cfg.n_last
+        assert specular.n_valid(n, cfg) == kept and specular.n_valid(n) == (1 <= n <= N_MAX)
+        d = Drive(cfg)
+        d.reset()
+        after = d.job(c=c, dz=3 << 6, z0=-(1 << 9), n=n, len=5)
+        assert column(after, "busy") == [1] * 13 + [0] * (len(after) - 13)
+        got = [after[i]["intensity"] for i in range(8, 14)]
+        assert {after[i]["n_err"] for i in range(8, 14)} == {int(not kept)}, n
+        want, n_err = specular.unit_line(c, 3 << 6, -(1 << 9), n, 5, cfg)
+        assert got == want.tolist() and n_err == int(not kept), n
+        assert any(got) == kept, n  # a kept n lights the peak; a dropped one gives zeros
+        if not kept and 1 <= n <= N_MAX:
+            with pytest.raises(ValueError, match=rf"n = {n} is out of range: legal .*17\.\.40"):
+                specular.shade_line(c, 0, 0, n, 0, cfg)
+    for fields, message in (
+        ({"n_first": 0}, "n_first = 0 is out of range: legal is 1..1000"),
+        ({"n_first": 1001}, "n_first = 1001 is out of range: legal is 1..1000"),
+        ({"n_last": 1001}, r"n_last = 1001 is out of range: legal is 1..1000"),
+        ({"n_first": 9, "n_last": 8}, r"n_last = 8 is out of range: legal is 9..1000"),
+    ):
+        with pytest.raises(ValueError, match=message):
+            SpecularConfig(**fields)
+    # a grows with n: without n < 17 the smallest a is sqrt(17/16) > 1, and |zeta| needs no
+    # integer bit; without n > 40 the largest a is sqrt(40/16) = 1.58, which Q2.x holds
+    assert (DEFAULT.mag_int_bits, SpecularConfig(n_first=17).mag_int_bits) == (1, 0)
+    with pytest.raises(ValueError, match="a_int_bits = 2 is out of range"):
+        SpecularConfig(a_int_bits=2)
+    assert SpecularConfig(a_int_bits=2, n_last=40).rom9_bits == 40 * 16
 
 
 def test_back_to_back_line_clocks() -> None:

@@ -10,8 +10,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from model.cli import divider_table1
-from model.study.accuracy import format_up
+from model.study.accuracy import divider_table1, format_up
 from model.units import divider
 from model.units.divider import ARTICLE, DEFAULT, DividerConfig
 

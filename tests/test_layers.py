@@ -1,9 +1,9 @@
 # SPDX-License-Identifier: Apache-2.0
 """The package map holds: imports point down only, no private name crosses a module, no cycle.
 
-Layers (model/__init__.py): ``model.units`` 1 < ``model.render`` 2 < ``model.study`` 3 and
-``sim`` 3 < ``model.cli`` 4; tests sit on top.  Every import of every module (function-level
-ones included) is read with ``ast``:
+Layers (model/__init__.py): ``model.units`` 1 < ``model.render`` and ``model.hw`` 2 <
+``model.study`` and ``sim`` 3 < ``model.fit`` 4 < ``model.cli`` 5; tests sit on top.  Every
+import of every module (function-level ones included) is read with ``ast``:
 
 * a module imports only its own package or a lower layer (``model/__init__.py`` re-exports the
   units; ``model/__main__.py`` runs the command line), and nothing under ``model/`` imports
@@ -30,7 +30,8 @@ LAYERS = {
     "model.hw": 2,
     "model.study": 3,
     "sim": 3,
-    "model.cli": 4,
+    "model.fit": 4,
+    "model.cli": 5,
 }
 TOP = 9  # tests and scripts
 

@@ -33,7 +33,7 @@ def test_readme_method_rows_are_the_measured_ones(run: report.SceneRun) -> None:
 
 
 SCENES_DOC = Path(__file__).resolve().parent.parent / "docs" / "scenes.md"
-DOC_ROW = re.compile(r"^\| \((\w)\) [^|]+ \|((?: [^|]+ \|){10})$", re.M)
+DOC_ROW = re.compile(r"^\| \((\w)\) [^|]+ \|((?: [^|]+ \|){11})$", re.M)
 
 
 def _cells(r: report.MethodResult) -> list[str]:
@@ -42,7 +42,13 @@ def _cells(r: report.MethodResult) -> list[str]:
     psnr = "inf" if c.psnr == float("inf") else f"{c.psnr:.1f}"
     counts = [
         str(k.get(n, "-"))
-        for n in ("divider_cycles", "gouraud_cycles", "specular_cycles", "specular_pixels")
+        for n in (
+            "divider_cycles",
+            "gouraud_cycles",
+            "specular_cycles",
+            "specular_pixels",
+            "diffuse_cycles",
+        )
     ]
     return [
         nmse,

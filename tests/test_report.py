@@ -61,3 +61,18 @@ def test_unknown_method_and_bad_size() -> None:
         report.shader_for("phong2")
     with pytest.raises(SystemExit):
         main(["demo", "--size", "4"])
+
+
+def test_diffuse_method_is_h_and_counts_its_diffuse_cycles(small_run) -> None:
+    from model.render.pipeline import PipelineConfig
+
+    r = small_run.results["diffuse"]
+    assert r.label == "(h) units: diffuse through the specular unit (n = 1)"
+    assert (
+        r.counters["diffuse_cycles"] > 0 == small_run.results["hybrid"].counters["diffuse_cycles"]
+    )
+    assert "| (h) units: diffuse" in report.format_table(small_run)
+    # The specular unit's ROMs are needed as soon as the diffuse term goes through it.
+    assert report.table_bits("diffuse") == report.table_bits("hybrid")
+    both_vertex = PipelineConfig(specular_mode="vertex", diffuse_mode="unit")
+    assert report.table_bits("x", both_vertex) == report.table_bits("hybrid")

@@ -10,6 +10,7 @@ a message and a non-zero exit status: under a plain ``iverilog``/``vvp`` run and
 
 from __future__ import annotations
 
+import dataclasses
 import re
 import subprocess
 from pathlib import Path
@@ -147,8 +148,8 @@ def test_loader_names_file_line_expected_and_found(
 def test_loader_accepts_every_committed_image() -> None:
     for cfg in divider.ROM_CONFIGS.values():
         assert divider.read_rom(cfg) == divider.rom_words(cfg).tolist()
-    for cfg in specular.ROM_CONFIGS.values():
-        assert specular.read_rom(cfg, "a") == specular.rom9_words(cfg).tolist()
+    for cfg in (*specular.ROM_CONFIGS.values(), *specular.KEPT_CONFIGS.values()):
+        assert specular.read_rom(cfg, "a") == specular.rom9_image(cfg).tolist()
         assert specular.read_rom(cfg, "cos") == specular.rom12_words(cfg).tolist()
 
 
@@ -157,6 +158,15 @@ def test_loader_refuses_the_image_of_another_alpha() -> None:
     path = specular.rom_path(specular.INFLECTION, "a")
     with pytest.raises(RomFileError, match=r"\(ALPHA = 1, expected 0\)"):
         specular.read_rom(specular.DEFAULT, "a", path)
+
+
+def test_loader_refuses_the_image_of_another_kept_range(tmp_path: Path) -> None:
+    """Same fields and depth (24 words), n = 18..41 instead of 17..40: the header cannot tell
+    them apart, the first data word can (a of n_first)."""
+    path = tmp_path / "a.hex"
+    path.write_text(specular.rom_text(dataclasses.replace(specular.KEPT, n_first=18, n_last=41)))
+    with pytest.raises(RomFileError, match=r"data word 0 is 1086, expected 1056 \(a of n = 17\)"):
+        specular.read_rom(specular.KEPT, "a", path)
 
 
 def test_check_words_layout() -> None:
@@ -229,7 +239,7 @@ def test_rtl_runs_with_its_own_image(tmp_path: Path) -> None:
             "divider_shift", _divider_params(cfg, divider.rom_path(cfg)), tmp_path
         )
         assert status == 0 and "ROM" not in output, output
-    for cfg in (specular.NARROW, specular.PROTOTYPE):
+    for cfg in (specular.NARROW, specular.PROTOTYPE, specular.KEPT):
         status, output = _simulate("specular_unit", cfg.hdl_parameters(), tmp_path)
         assert status == 0 and "ROM" not in output, output
 
@@ -268,6 +278,18 @@ SPECULAR_IMAGES = [
         specular.DEFAULT,
         {"ROM_ADDR_BITS": 8},
         'COS_ROM_FILE "{COS_ROM_FILE}": check field magic is',
+    ),
+    (
+        "ROM 9 of every n in the unit that keeps n = 17..40",
+        specular.KEPT,
+        {"A_ROM_FILE": specular.rom_path(specular.NARROW, "a")},
+        'A_ROM_FILE "{A_ROM_FILE}": check field magic is',  # 1000 data words read as 24
+    ),
+    (
+        "ROM 9 of n = 17..40 in the unit that keeps n = 18..41",
+        dataclasses.replace(specular.KEPT, n_first=18, n_last=41),
+        {"A_ROM_FILE": specular.rom_path(specular.KEPT, "a")},
+        'A_ROM_FILE "{A_ROM_FILE}": data word 0 is 1056, this instance needs a of n = 18 (1086)',
     ),
     (
         "missing ROM 12",

@@ -22,8 +22,9 @@ Model field -> RTL parameter (UPPER_CASE, docs/architecture.md):
 * GouraudConfig: i_int, i_frac, p, len_width -> I_INT, I_FRAC, P, LEN_WIDTH.
 * SpecularConfig: the width fields -> C_INT_BITS .. OUT_WIDTH; k_ranges -> NUM_TABLES,
   N_HI0..N_HI3, K0..K3 (an unused table: N_HI = 1000, K = 0; n_lo is implied by the previous
-  n_hi, so a k_ranges with a gap has no RTL form); alpha -> ALPHA; the derived mag_int_bits ->
-  MAG_INT_BITS (must equal it); A_ROM_FILE, COS_ROM_FILE are RTL-only.
+  n_hi, so a k_ranges with a gap has no RTL form); alpha -> ALPHA; n_first, n_last -> N_FIRST,
+  N_LAST; the derived mag_int_bits -> MAG_INT_BITS (must equal it); A_ROM_FILE, COS_ROM_FILE
+  are RTL-only.
 * Every unit: RESET_ALL (0 or 1, docs/fpga.md "Reset") is RTL-only and legal whatever the
   model's fields; any other value is refused (RESET_ALL_must_be_0_or_1).
 """
@@ -282,6 +283,20 @@ SPECULAR_CASES = [
         "N_HI_of_the_last_table_must_be_1000",
     ),
     Case("alpha=taylorx", {"alpha": "taylorx"}, "ALPHA_must_be_taylor_or_inflection"),
+    # The kept range n_first..n_last; mag_int_bits and the largest a's check take it only
+    Case("kept 17..40 (mag_int_bits 0)", {"n_first": 17, "n_last": 40}, None),
+    Case("kept 1000..1000 (one word)", {"n_first": 1000}, None),
+    Case("kept 1..1", {"n_last": 1}, None),
+    Case("kept 1..63 a 1.98 in Q1.14", {"n_last": 63, "a_int_bits": 1}, None),
+    Case("n_first=0", {"n_first": 0}, "N_FIRST_must_be_1_to_1000"),
+    Case("n_first=1001", {"n_first": 1001}, "N_FIRST_must_be_1_to_1000"),
+    Case("n_last=1001", {"n_last": 1001}, "N_LAST_must_be_N_FIRST_to_1000"),
+    Case("n_first > n_last", {"n_first": 41, "n_last": 40}, "N_LAST_must_be_N_FIRST_to_1000"),
+    Case(
+        "kept 1..64 a 2.0 in Q1.14",
+        {"n_last": 64, "a_int_bits": 1},
+        "A_INT_BITS_too_small_for_the_largest_a",
+    ),
     # Derived widths
     Case(
         "address shift 1",

@@ -72,3 +72,14 @@ def test_one_mesh_of_each_format_through_the_rtl(tmp_path) -> None:
     seen = {int(t) // per_mesh for t in np.unique(winner[winner >= 0])}
     assert seen == set(range(len(formats))), seen
     assert result.results["specular_unit"] == result.pixels > 100
+
+
+def test_rtl_scene_with_the_diffuse_term_through_the_specular_unit() -> None:
+    """Method (h) on a small frame: the diffuse jobs (n = 1, one per span and channel) run on
+    the RTL specular unit after the highlight jobs; the image equals the model's byte for byte."""
+    result = cosimulate("sphere", 24, method="diffuse", tag="scene_diffuse_test")
+    diff = (result.rtl_rgb != result.model_rgb).any(axis=2)
+    assert not diff.any(), f"{diff.sum()} pixels differ"
+    # Every pixel through the unit once for the highlight and once per channel for the diffuse.
+    assert result.results["specular_unit"] == 4 * result.pixels > 100
+    print(f"diffuse co-simulation: {result.pixels} pixels, RTL cycles {result.cycles}")

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """Run the specular unit's cocotb bench under Icarus: the default, narrow and UP5K configurations,
-and the default with RESET_ALL = 1."""
+the narrow one that keeps n = 17..40 only (``specular.KEPT``), and the default with RESET_ALL =
+1."""
 
 from __future__ import annotations
 
@@ -15,13 +16,14 @@ pytestmark = pytest.mark.sim
 
 # Every configuration with RESET_ALL = 0 (the default: the data path is not reset, and Icarus
 # starts it at X); RESET_ALL = 1 on the default configuration only, the tests that reset.
-REGRESSIONS = [(name, 0) for name in ("default", "narrow", "up5k")] + [("default", 1)]
+REGRESSIONS = [(name, 0) for name in ("default", "narrow", "up5k", "kept")] + [("default", 1)]
+BENCHED = {**specular.ROM_CONFIGS, **specular.KEPT_CONFIGS}
 RESET_ALL_TESTS = ["test_extremes", "test_reset_mid_line", "test_random_strobes"]
 
 
 @pytest.mark.parametrize(("name", "reset_all"), REGRESSIONS)
 def test_specular_rtl_matches_model(request, name: str, reset_all: int) -> None:
-    cfg = specular.ROM_CONFIGS[name]
+    cfg = BENCHED[name]
     records = run_bench(
         "specular_unit",
         "sim.tb_specular",
@@ -38,6 +40,7 @@ def test_specular_rtl_matches_model(request, name: str, reset_all: int) -> None:
     x_cycles = sum(r["x_data_cycles"] for r in records)
     assert (x_cycles > 0) if reset_all == 0 else (x_cycles == 0), records
     if reset_all == 0:
-        # Every n = 1..1000 went through the unit (the every-n test counts its own lines).
+        # Every n = 1..1000 went through the unit (the every-n test counts its own lines): for
+        # "kept" that is n_first - 1, n_first, n_last, n_last + 1 and every n it drops.
         every_n = [r for r in records if r["test"] == "every_n_random_lines"]
         assert every_n and every_n[0]["jobs"] >= specular.N_MAX

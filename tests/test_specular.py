@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """The specular unit's model: decoder, BRDF figures, ROMs, datapath, accuracy, stability, set-up.
 
-Size: one file for the unit's model tests (about 650 lines, 30 tests, a third of them the set-up's
+Size: one file for the unit's model tests (about 670 lines, 30 tests, a third of them the set-up's
 degenerate cases), in the order of model/units/specular/'s modules; the contract tables of
 docs/specular.md cite these tests by this path, so they stay together.
 """
@@ -23,6 +23,7 @@ from model.units.specular import DEFAULT, INFLECTION, NARROW, PROTOTYPE, Specula
 
 ROOT = Path(__file__).resolve().parent.parent
 CONFIGS = list(specular.ROM_CONFIGS.items())
+IMAGES = CONFIGS + list(specular.KEPT_CONFIGS.items())  # also the units that keep a range of n
 
 
 # ==================================================================== decoder
@@ -111,7 +112,7 @@ def test_inflection_a_is_exact_at_the_inflection_point() -> None:
 
 
 # ==================================================================== ROMs
-@pytest.mark.parametrize(("name", "cfg"), CONFIGS, ids=[c[0] for c in CONFIGS])
+@pytest.mark.parametrize(("name", "cfg"), IMAGES, ids=[c[0] for c in IMAGES])
 @pytest.mark.parametrize("which", ["a", "cos"])
 def test_committed_rom_equals_fresh_generation(name: str, cfg: SpecularConfig, which: str) -> None:
     path = specular.rom_path(cfg, which)
@@ -119,12 +120,12 @@ def test_committed_rom_equals_fresh_generation(name: str, cfg: SpecularConfig, w
     assert path.read_text() == specular.rom_text(cfg, which)
     words = specular.read_rom(cfg, which)
     if which == "a":
-        assert len(words) == 1024
-        assert words[0] == 0 and all(w == 0 for w in words[1001:])  # invalid n hold 0
-        for n in (1, 2, 3, 6, 7, 500, 1000):
+        assert len(words) == cfg.n_last - cfg.n_first + 1  # one word per kept n, none for others
+        kept = range(cfg.n_first, cfg.n_last + 1)
+        for n in {n for n in (1, 2, 3, 6, 7, 500, 1000, kept[0], kept[-1]) if n in kept}:
             k = specular.decode_k(n, cfg)
             a = specular.alpha_value(n, k, cfg.alpha)
-            assert words[n] == math.floor(a * 2**cfg.a_frac_bits + 0.5), n
+            assert words[n - cfg.n_first] == math.floor(a * 2**cfg.a_frac_bits + 0.5), n
     else:
         size = 1 << cfg.rom_addr_bits
         assert len(words) == size << cfg.tsel_bits
@@ -203,6 +204,21 @@ def test_unit_line_defines_invalid_n() -> None:
     values, n_err = specular.unit_line(255 << 8, 1 << 16, -(1 << 20), 40, 9)
     assert n_err == 0
     np.testing.assert_array_equal(values, specular.shade_line(255 << 8, 1 << 16, -(1 << 20), 40, 9))
+    # A unit that keeps n = 17..40: 16 and 41 are invalid n there, 17 and 40 are shaded as ever
+    kept, ops = specular.KEPT, (63 << 4, 1 << 8, -(1 << 12))
+    for n in (0, 16, 17, 40, 41, 1000, 1023):
+        values, n_err = specular.unit_line(*ops, n, 6, kept)
+        assert n_err == int(not 17 <= n <= 40) and (values.any() == (not n_err)), n
+        if not n_err:
+            assert list(values) == list(specular.shade_line(*ops, n, 6, NARROW))
+            rows = specular.shade_lines(*([v] for v in ops), [n], [6], kept)
+            assert list(rows.pixels) == list(values)
+    for call in (
+        lambda: specular.shade_line(0, 0, 0, 16, 0, kept),
+        lambda: specular.shade_lines([0, 0], [0, 0], [0, 0], [17, 41], [0, 0], kept),
+    ):
+        with pytest.raises(ValueError, match=r"n(\[1\])? = (16|41) is out of range: .*17\.\.40"):
+            call()  # fmt: skip
 
 
 def test_cycles_and_valid_offsets() -> None:
@@ -327,7 +343,7 @@ def test_fewer_angle_fraction_bits_would_drift_past_a_step() -> None:
     assert worst > 1.0
 
 
-@pytest.mark.parametrize(("name", "cfg"), CONFIGS, ids=[c[0] for c in CONFIGS])
+@pytest.mark.parametrize(("name", "cfg"), IMAGES, ids=[c[0] for c in IMAGES])
 def test_nothing_wraps_for_extreme_registers(name: str, cfg: SpecularConfig) -> None:
     z_lo, z_hi = cfg.z_format.lo, cfg.z_format.hi
     half = 1 << (cfg.acc_width - 1)
@@ -335,14 +351,15 @@ def test_nothing_wraps_for_extreme_registers(name: str, cfg: SpecularConfig) -> 
     hi = specular.line_angles(z_hi, z_hi, cfg.len_max, cfg)
     assert lo[-1] == -half and (np.diff(lo) == z_lo).all()  # the accumulator's most negative
     assert hi[-1] == z_hi * (cfg.len_max + 1) < half
-    # The clamp of |zeta| before multiplier 11 is invisible: every valid n reaches pi/2 there.
-    a = specular.rom9_words(cfg)[1:1001]
+    # The clamp of |zeta| before multiplier 11 is invisible: every kept n reaches pi/2 there.
+    a = specular.rom9_words(cfg)[cfg.n_first : cfg.n_last + 1]
     mag_max = (1 << cfg.mag_width) - 1
     assert (a * mag_max >= 1 << (cfg.z_frac_bits + cfg.a_frac_bits)).all()
     assert int(a.max()) * mag_max < 1 << (cfg.mag_width + cfg.a_width)
     # Both ends of the extreme lines are far past pi/2: zeros, no wrapped highlight.
     for z in (z_lo, z_hi):
-        assert not specular.shade_line(cfg.c_format.hi, z, z, 1000, cfg.len_max, cfg)[1:].any()
+        line = specular.shade_line(cfg.c_format.hi, z, z, cfg.n_last, cfg.len_max, cfg)
+        assert not line[1:].any()
 
 
 def test_peak_for_every_n_and_c_extremes() -> None:
@@ -615,7 +632,7 @@ def test_config_survives_the_json_round_trip_of_the_bench() -> None:
     import json
     from dataclasses import asdict
 
-    for _, cfg in CONFIGS:
+    for _, cfg in IMAGES:
         again = SpecularConfig(**json.loads(json.dumps(asdict(cfg))))
         assert again == cfg and again.hdl_parameters() == cfg.hdl_parameters()
     assert NARROW.hdl_parameters()["N_HI3"] == 1000 and PROTOTYPE.hdl_parameters()["N_HI1"] == 1000
@@ -623,6 +640,9 @@ def test_config_survives_the_json_round_trip_of_the_bench() -> None:
         INFLECTION.a_rom_name != DEFAULT.a_rom_name
         and INFLECTION.cos_rom_name == DEFAULT.cos_rom_name
     )
+    assert specular.KEPT.a_rom_name == NARROW.a_rom_name.replace(".hex", "_keep17-40.hex")
+    kept = specular.KEPT.hdl_parameters()
+    assert (kept["N_FIRST"], kept["N_LAST"], DEFAULT.hdl_parameters()["N_LAST"]) == (17, 40, 1000)
 
 
 def test_unjitted_model_gives_the_same_results() -> None:

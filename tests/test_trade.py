@@ -24,7 +24,7 @@ def test_key_is_stable_and_canonical():
     assert trade.TradePoint(highlight_levels=1).key == trade.TradePoint(highlight_levels=1.0).key
     assert len(p.key) == 16 and int(p.key, 16) >= 0
     canonical = (
-        '{"alpha":"taylor","highlight_levels":0.5,"k_set":"patent","p":8,"recip_bits":20,'
+        '{"alpha":"taylor","diffuse_mode":"gouraud","highlight_levels":0.5,"k_set":"patent","p":8,"recip_bits":20,'
         '"rom_addr_bits":12,"rom_data_bits":16,"scene":"sphere","size":32,'
         f'"specular_mode":"unit","version":{trade.CACHE_VERSION},"z_frac_bits":26}}'
     )
@@ -63,6 +63,7 @@ def test_default_point_is_the_default_pipeline():
         ("p", 4, lambda c: c.gouraud.p),
         ("specular_mode", "adaptive", lambda c: c.specular_mode),
         ("highlight_levels", 2.0, lambda c: c.highlight_levels),
+        ("diffuse_mode", "unit", lambda c: c.diffuse_mode),
     ],
 )
 def test_each_knob_maps_to_its_config_field(knob, value, field):
@@ -80,7 +81,7 @@ def _set(base: pipeline.PipelineConfig, field, cfg: pipeline.PipelineConfig):
     for unit in ("divider", "gouraud", "specular"):
         if getattr(cfg, unit) != getattr(base, unit):
             base = dataclasses.replace(base, **{unit: getattr(cfg, unit)})
-    for top in ("specular_mode", "highlight_levels"):
+    for top in ("specular_mode", "highlight_levels", "diffuse_mode"):
         if getattr(cfg, top) != getattr(base, top):
             base = dataclasses.replace(base, **{top: getattr(cfg, top)})
     return base
@@ -142,7 +143,8 @@ def test_sweep_on_dask_caches_and_resumes(tmp_path):
     )
     assert r1["divider_cycles"] <= r0["divider_cycles"]
     assert r1["line_drift_levels"] > 10 * r0["line_drift_levels"]
-    assert r0["table_bits"] == 322560 and r0["epicentre_worst_n"] == 3
+    rom_bits = divider.DEFAULT.rom_bits + specular.DEFAULT.rom_bits  # one copy of every ROM
+    assert r0["table_bits"] == rom_bits and r0["epicentre_worst_n"] == 3
 
     # Resumed: everything from the cache, nothing evaluated or rewritten.
     before = _mtimes(cache)
@@ -230,6 +232,7 @@ def test_default_is_on_the_all_figures_front_but_for_the_free_changes(tmp_path):
         "results.md",
         "pareto_cycles.png",
         "pareto_bits.png",
+        "pareto_throughput.png",
     ]
     pos = trade.default_position(rows)
     free = {"alpha", "specular_mode", "highlight_levels", "p", "rom_data_bits"}
@@ -348,7 +351,7 @@ def test_trade_sweeps_a_mesh_like_a_builtin_scene(tmp_path, monkeypatch, capsys)
     key = mesh_key(mesh)
     monkeypatch.setattr(trade, "grid_points", _one_config)
     out = tmp_path / "out"
-    run = {"size": 16, "out_dir": out, "workers": 0, "repeats": 1}
+    run = {"size": 16, "out_dir": out, "workers": 0, "repeats": 1, "part": "none"}
     assert trade.main(["sphere"], meshes=[mesh], **run) == 0
     assert f"1 configurations x 2 scenes (sphere, {key})" in capsys.readouterr().out
     with open(out / "results.csv") as f:
@@ -381,3 +384,150 @@ def test_unreadable_mesh_is_refused_before_any_work(tmp_path, monkeypatch):
         assert message.startswith("argument --mesh: ") and str(bad) in message, message
         assert "\n" not in message and err.value.status == 2
     assert not (tmp_path / "out").exists()  # refused before the output folder was made
+
+
+# ================================================================ synthesised cost, --config
+def _vertex_only(grid, scenes, size):
+    """One cheap configuration (no specular unit: a divider and a Gouraud unit to synthesise)."""
+    return [
+        trade.TradePoint(scene=s, size=size, specular_mode="vertex", recip_bits=10, p=2)
+        for s in scenes
+    ]
+
+
+def _csv_rows(path):
+    import csv
+
+    with open(path) as f:
+        return list(csv.DictReader(f))
+
+
+def test_synthesised_cost_columns(tmp_path, monkeypatch, capsys):
+    """--part: every unit the configuration uses synthesised once (a real run on the iCE40
+    HX8K, a few seconds); LUT, FF, BRAM, DSP the units' sums, Fmax the slowest unit's, Mpx/s =
+    px/clk x Fmax; --part none synthesises nothing."""
+    from model.hw import synthesise
+    from model.study.trade import hardware
+
+    monkeypatch.setenv("SYNTH_CACHE", str(tmp_path / "synth"))
+    monkeypatch.setattr(trade, "grid_points", _vertex_only)
+    run = {"size": 16, "workers": 0, "repeats": 1}
+    assert trade.main(["sphere", "quad"], out_dir=tmp_path / "hw", part="hx8k", **run) == 0
+    assert "2 unit configurations synthesised" in capsys.readouterr().out
+    cfg = _vertex_only("small", ["sphere"], 16)[0].to_pipeline_config()
+    units = [synthesise(u, c, "hx8k") for u, c in trade.unit_configs(cfg)]  # cache hits now
+    assert [r.unit for r in units] == ["divider_shift", "gouraud_segment"]
+    rows = _csv_rows(tmp_path / "hw" / "results.csv")
+    assert [r["scene"] for r in rows] == ["sphere", "quad"]
+    for r in rows:  # per configuration: the same on every scene
+        assert r["part"] == "hx8k"
+        for k in ("lut", "ff", "bram", "dsp"):
+            assert int(r[k]) == sum(getattr(u, k) for u in units)
+        assert int(r["lut"]) > 0 and int(r["ff"]) > 0
+        assert float(r["fmax_mhz"]) == pytest.approx(min(u.fmax_mhz for u in units))
+        expect = float(r["px_per_clock_parallel"]) * float(r["fmax_mhz"])
+        assert float(r["hw_mpx_per_s"]) == pytest.approx(expect)
+    md = (tmp_path / "hw" / "results.md").read_text()
+    assert "| LUT | FF | BRAM | DSP | Fmax MHz | hw Mpx/s |" in md and "on hx8k" in md
+    assert (tmp_path / "hw" / "pareto_lut.png").is_file()
+    assert (tmp_path / "hw" / "pareto_throughput.png").is_file()
+
+    def no_synthesis(*args, **kwargs):
+        raise AssertionError("synthesised with --part none")
+
+    monkeypatch.setattr(hardware, "synthesise", no_synthesis)
+    assert trade.main(["sphere"], out_dir=tmp_path / "sw", part="none", **run) == 0
+    (r,) = _csv_rows(tmp_path / "sw" / "results.csv")
+    assert r["part"] == "none" and r["lut"] == "nan" and r["hw_mpx_per_s"] == "nan"
+    assert not (tmp_path / "sw" / "pareto_lut.png").exists()
+    assert (tmp_path / "sw" / "pareto_throughput.png").is_file()  # against px/clk
+
+
+def _fitted_config(tmp_path):
+    """A "fitted" configuration: a smaller unit that keeps only the sphere's n (60)."""
+    from model.render import configfile
+
+    base = trade.TradePoint(rom_addr_bits=8, z_frac_bits=16).to_pipeline_config()
+    cfg = dataclasses.replace(
+        base, specular=dataclasses.replace(base.specular, n_first=60, n_last=60)
+    )
+    path = tmp_path / "fit" / "sphere" / "config.toml"
+    path.parent.mkdir(parents=True)
+    return configfile.write_config(cfg, path), cfg
+
+
+def test_config_file_is_a_point_marked_on_every_plot(tmp_path, monkeypatch, capsys):
+    """--config FILE: the file's configuration over the scenes, labelled fit:<folder>, keyed by
+    its content; a scene it refuses is reported, not a failure; every plot marks it and the
+    default."""
+    path, cfg = _fitted_config(tmp_path)
+    monkeypatch.setattr(trade, "grid_points", _one_config)
+    out = tmp_path / "out"
+    run = {"size": 16, "workers": 0, "repeats": 1, "part": "none", "out_dir": out}
+    assert trade.main(["sphere", "teapot"], configs=[path], **run) == 0
+    text = capsys.readouterr().out
+    assert "1 refused by their configuration file" in text
+    assert "REFUSED fit:sphere on teapot: ValueError('material n = " in text
+    rows = _csv_rows(out / "results.csv")
+    assert [(r["label"], r["scene"]) for r in rows] == [
+        ("default", "sphere"),
+        ("default", "teapot"),
+        ("fit:sphere", "sphere"),
+    ]
+    point = trade.ConfigPoint.from_config("fit:sphere", cfg, "sphere", 16)
+    assert point.to_pipeline_config() == cfg
+    assert rows[2]["key"] == point.key and rows[2]["config_key"] != rows[0]["config_key"]
+    assert trade.load_cached(out / "cache", point) is not None
+    md = (out / "results.md").read_text()
+    assert "## configuration files (`--config`)" in md and "* refused: fit:sphere on teapot" in md
+    # Another content, another key: the cache follows the file.
+    other = dataclasses.replace(cfg, gouraud=dataclasses.replace(cfg.gouraud, p=4))
+    assert trade.ConfigPoint.from_config("fit:sphere", other, "sphere", 16).key != point.key
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.text import Annotation
+
+    swept = trade.run_sweep(
+        [*_one_config("small", ["sphere"], 16), point], out / "cache", workers=0, progress=False
+    )
+    agg = trade.aggregate(swept.results)
+    for x in ("cycles", "table_bits", "px_per_clock_parallel"):
+        fig, ax = plt.subplots(figsize=(6, 4), dpi=100)
+        trade.plot_pareto(
+            [{**r, **dict.fromkeys(trade.HW_FIELDS[1:], np.nan), "part": "none"} for r in agg],
+            x,
+            ax=ax,
+        )
+        legend = {c.get_label(): c for c in ax.collections}
+        assert legend["default"].get_paths() and legend["fitted (--config)"].get_paths()
+        fitted_xy = legend["fitted (--config)"].get_offsets()
+        assert len(fitted_xy) == 1
+        labels = {t.get_text() for t in ax.texts if isinstance(t, Annotation)}
+        assert {"default", "fit:sphere"} <= labels
+        plt.close(fig)
+
+
+def test_bad_config_or_part_is_one_line_before_any_work(tmp_path, monkeypatch, capsys):
+    from model import cli
+
+    def started(*args, **kwargs):
+        raise AssertionError("the work started")
+
+    monkeypatch.setattr(trade, "run_sweep", started)
+    bad = tmp_path / "bad.toml"
+    bad.write_text("[divider]\nrecip_bits = 'many'\n")
+    cases = [
+        (["--config", str(bad)], f"argument --config: {bad}: divider.recip_bits = 'many'"),
+        (["--config", str(tmp_path / "missing.toml")], "argument --config: path = "),
+        (["--part", "ecp9"], "argument --part: part = 'ecp9' is not a part: legal values"),
+    ]
+    for argv, why in cases:
+        status = cli.main(["trade", "--scenes", "sphere", "--out", str(tmp_path / "o"), *argv])
+        captured = capsys.readouterr()
+        lines = captured.err.strip().splitlines()
+        assert status == 2 and captured.out == "" and len(lines) == 1, captured
+        assert lines[0].startswith(f"shading trade: error: {why}"), lines[0]
+    assert not (tmp_path / "o").exists()

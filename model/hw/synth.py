@@ -245,7 +245,7 @@ def synthesise(
     start = time.monotonic()
     folder = cache.parent / "runs" / key
     folder.mkdir(parents=True, exist_ok=True)
-    result = _flow(unit, name, params, dev, seed, target, folder, source, top)
+    result = _flow(unit, name, params, dev, seed, target, folder, {f"{unit}.v": source}, top)
     result = SynthResult(
         **{
             **asdict(result),
@@ -255,11 +255,51 @@ def synthesise(
             "tools": tuple(sorted({**tools, **dict(result.tools)}.items())),
         }
     )
-    cache.mkdir(parents=True, exist_ok=True)
+    _store(entry, result)
+    return result
+
+
+def synthesise_design(
+    top: str, files: dict[str, bytes], part: str | Part = "hx8k", *, seed: int = 1
+) -> SynthResult:
+    """Synthesise, place and route a design of several modules: ``files`` (file name -> bytes:
+    its Verilog and the ROM images it reads, by relative name) with the top module ``top``,
+    behind the six-pin wrapper.  LUT, FF, BRAM and DSP count every cell under ``top``; cached
+    like ``synthesise`` (the key hashes every file)."""
+    dev = get_part(part)
+    if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
+        raise ValueError(f"seed {seed!r} is not allowed: a non-negative integer")
+    text = "\n".join(d.decode() for f, d in sorted(files.items()) if f.endswith(".v"))
+    wrapped = wrapper.wrapper_verilog(top, wrapper.ports(text, top, {}), {})
+    tools = tool_versions()
+    inputs = {f: _sha(d) for f, d in sorted(files.items())}
+    flow = [FLOW, _sha(wrapped), dev.synth, dev.after_synth, dev.pnr, dev.pins]
+    key = _sha(json.dumps([top, inputs, dev.key, seed, tools, flow]))[:24]
+    entry = cache_dir() / f"{key}.json"
+    if entry.is_file():
+        return SynthResult.from_json(json.loads(entry.read_text()))
+    start = time.monotonic()
+    folder = cache_dir().parent / "runs" / key
+    folder.mkdir(parents=True, exist_ok=True)
+    result = _flow(top, "design", {}, dev, seed, None, folder, files, wrapped, below=True)
+    result = SynthResult(
+        **{
+            **asdict(result),
+            "inputs": tuple((f, h) for f, h in inputs.items()),
+            "key": key,
+            "seconds": round(time.monotonic() - start, 1),
+            "tools": tuple(sorted({**tools, **dict(result.tools)}.items())),
+        }
+    )
+    _store(entry, result)
+    return result
+
+
+def _store(entry: Path, result: SynthResult) -> None:
+    entry.parent.mkdir(parents=True, exist_ok=True)
     tmp = entry.with_suffix(f".{os.getpid()}.{threading.get_ident()}.tmp")
     tmp.write_text(json.dumps(result.to_json(), indent=1))
     tmp.replace(entry)
-    return result
 
 
 def run_inputs(unit: str, config: object = None) -> dict[str, str]:
@@ -282,21 +322,28 @@ def _flow(
     seed: int,
     target: float | None,
     run_dir: Path,
-    source: bytes,
+    sources: dict[str, bytes],
     top_text: str,
+    *,
+    below: bool = False,
 ) -> SynthResult:
+    """One run: ``sources`` (file name -> bytes: the RTL, and ROM images the parameters do not
+    name) and the wrapper ``top_text`` through Yosys and nextpnr in ``run_dir``.  The cells
+    counted are ``unit``'s own, or with ``below`` every cell under the wrapper."""
     # The run folder gets its own copy of the RTL and the ROM images and the tools see relative
     # names only: the WebAssembly tools cannot open every absolute path (e.g. under /tmp).
-    rtl = run_dir / f"{unit}.v"
-    rtl.write_bytes(source)
+    for file_name, data in sources.items():
+        (run_dir / file_name).parent.mkdir(parents=True, exist_ok=True)
+        (run_dir / file_name).write_bytes(data)
     for name_, value in params.items():
         if name_.endswith("ROM_FILE"):
             shutil.copyfile(str(value), run_dir / Path(str(value)).name)
     top = run_dir / "top.v"
     top.write_text(top_text)
     hier = "" if dev.family == "xilinx" else " -noflatten"
+    reads = "".join(f"read_verilog -defer {f}\n" for f in sources if f.endswith(".v"))
     script = (
-        f"read_verilog -defer {rtl.name}\n"
+        f"{reads}"
         f"read_verilog -defer {top.name}\n"
         f"hierarchy -top {wrapper.TOP}\n"
         f"{dev.synth}{hier} -top {wrapper.TOP}\n"
@@ -315,7 +362,11 @@ def _flow(
     modules = parse.stat_modules(stat)
     if unit not in modules:
         raise SynthError(f"yosys kept no module {unit} (modules: {', '.join(modules)})")
-    cells = parse.classify(modules[unit], dev.family)
+    if below:
+        below_top = {m: c for m, c in modules.items() if m != wrapper.TOP}
+        cells = parse.classify(_design_cells(below_top), dev.family)
+    else:
+        cells = parse.classify(modules[unit], dev.family)
     tools = {"yosys": parse.yosys_version(stat)}
     fits, overflow = True, ""
     timing = parse.Timing(None, "", "", None)

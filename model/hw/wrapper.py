@@ -26,7 +26,7 @@ from pathlib import Path
 
 TOP = "synth_top"
 
-_HEADER = re.compile(r"\bmodule\s+(\w+)\s*#\s*\((.*?)\)\s*\((.*?)\);", re.S)
+_HEADER = re.compile(r"\bmodule\s+(\w+)\s*(?:#\s*\((.*?)\))?\s*\((.*?)\);", re.S)
 _PARAM = re.compile(r"\bparameter\s+(?:\[[^\]]*\]\s*)?(\w+)\s*=\s*([^,]+?)\s*(?:,|$)", re.S)
 _PORT = re.compile(
     r"\b(input|output)\s+(?:wire\s+|reg\s+)?(?:signed\s+)?(?:\[([^:\]]+):([^\]]+)\])?\s*(\w+)"
@@ -66,7 +66,7 @@ def ports(rtl: Path | str, module: str, params: dict[str, object]) -> list[Port]
     else:
         raise ValueError(f"{module}: no 'module {module} #(...) (...);' header found")
     env: dict[str, int] = {}
-    for name, value in _PARAM.findall(match.group(2)):
+    for name, value in _PARAM.findall(match.group(2) or ""):
         if re.fullmatch(r"\d+", value.strip()):
             env[name] = int(value)
     env.update({k: int(v) for k, v in params.items() if isinstance(v, int | bool)})
@@ -124,7 +124,10 @@ def wrapper_verilog(module: str, unit_ports: list[Port], params: dict[str, objec
         bit += p.width
     conns += [f"        .{p.name}(u_{p.name})" for p in outs]
     overrides = ",\n".join(f"        .{k}({_literal(v)})" for k, v in params.items())
-    lines += [f"    {module} #(", overrides, "    ) u_unit (", ",\n".join(conns), "    );"]
+    head = (
+        [f"    {module} #(", overrides, "    ) u_unit ("] if params else [f"    {module} u_unit ("]
+    )
+    lines += [*head, ",\n".join(conns), "    );"]
     captured = ", ".join(f"u_{p.name}" for p in reversed(outs))
     pad = out_w - sum(p.width for p in outs)
     if pad:

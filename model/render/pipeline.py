@@ -15,7 +15,12 @@ Per span of ``l`` intervals (``l + 1`` pixels), as the patent's external device 
 4. **The specular unit** (methods that use it): ``specular.setup_line`` from the span-end N, H,
    the material's n and k_s * I_l gives the registers C, dz, z0; the unit gives l + 1
    intensities of the (white) highlight.
-5. **Sum and saturate**: each channel is ``min(gouraud + specular, 255)``.
+4b. **The diffuse term through the specular unit** (``diffuse_mode`` "unit" or "adaptive"): the
+   same unit at n = 1 (its k = 1 table, a = 1) computes ``C cos(zeta)``, the Lambert term with
+   spherically interpolated N, from the same set-up with L in place of H: one job per colour
+   channel with C = k_d * colour_c * I_l.  The Gouraud unit then carries only the ambient term
+   (and the vertex specular where the highlight is not made by the unit).
+5. **Sum and saturate**: each channel is ``min(gouraud + diffuse + specular, 255)``.
 
 Every pixel value comes out of the unit models, through their batched public calls
 (``divider.divide_many``, ``gouraud.shade_lines``, ``specular.shade_lines``: each row equals the
@@ -26,8 +31,9 @@ RTL image differ only if a unit does.
 
 Methods (``METHODS``): the hybrid with the patent's k-set and a = sqrt(n/k), the same with the
 thesis's inflection-matched a, the prototype's single cos^2 table, Gouraud only (the specular
-term evaluated at the vertices and interpolated with the diffuse one: no specular unit), and the
-structure-adaptive method (the specular unit only on triangles the highlight test flags).
+term evaluated at the vertices and interpolated with the diffuse one: no specular unit), the
+structure-adaptive method (the specular unit only on triangles the highlight test flags), and
+the hybrid with the diffuse term through the specular unit at n = 1 as well ("diffuse").
 """
 
 from __future__ import annotations
@@ -36,22 +42,33 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from model.render.reference import object_highlight_flags
+from model.render.reference import object_diffuse_flags, object_highlight_flags
 from model.render.shade import ShadeContext, ShadeResult
 from model.render.spans import Spans
+from model.render.vectors import lighting_vectors
 from model.units import divider, gouraud, specular
 
 SPECULAR_MODES = ("unit", "vertex", "adaptive")
+DIFFUSE_MODES = ("gouraud", "unit", "adaptive")
+DIFFUSE_N = 1
+"""The exponent of the diffuse jobs: the specular unit's k = 1 table with a = 1, C cos(zeta)."""
 
 
 @dataclass(frozen=True)
 class PipelineConfig:
-    """The units' configurations and how the specular term is made.
+    """The units' configurations and how the specular and the diffuse terms are made.
 
     ``specular_mode``: "unit" (every span through the specular unit), "vertex" (Gouraud only:
     specular at the vertices, interpolated by the Gouraud unit), "adaptive" (the unit on the
     triangles ``reference.object_highlight_flags`` marks at ``highlight_levels``, vertex
     specular elsewhere).
+
+    ``diffuse_mode``: "gouraud" (ambient + diffuse lit at the vertices and interpolated by the
+    Gouraud unit), "unit" (every span's diffuse term through the specular unit at n = 1, one job
+    per colour channel; the Gouraud unit carries the ambient term only), "adaptive" (the unit
+    on the triangles ``reference.object_diffuse_flags`` marks: vertex normals spread by more
+    than ``diffuse_spread_deg`` degrees; Gouraud diffuse elsewhere).  The diffuse jobs need a
+    specular unit that keeps n = 1 (``SpecularConfig.n_first`` = 1).
     """
 
     divider: divider.DividerConfig = divider.DEFAULT
@@ -59,12 +76,31 @@ class PipelineConfig:
     specular: specular.SpecularConfig = specular.DEFAULT
     specular_mode: str = "unit"
     highlight_levels: float = 0.5
+    diffuse_mode: str = "gouraud"
+    diffuse_spread_deg: float = 10.0
 
     def __post_init__(self) -> None:
         if self.specular_mode not in SPECULAR_MODES:
             raise ValueError(
                 f"specular_mode = {self.specular_mode!r} is out of range: legal values are "
                 f"{', '.join(SPECULAR_MODES)}"
+            )
+        if self.diffuse_mode not in DIFFUSE_MODES:
+            raise ValueError(
+                f"diffuse_mode = {self.diffuse_mode!r} is out of range: legal values are "
+                f"{', '.join(DIFFUSE_MODES)}"
+            )
+        n_first = self.specular.n_first  # the smallest n ROM 9 keeps
+        if self.diffuse_mode != "gouraud" and n_first > DIFFUSE_N:
+            raise ValueError(
+                f"diffuse_mode = {self.diffuse_mode!r} is out of range for a specular unit that "
+                f"keeps n = {n_first}..: the diffuse jobs need n = {DIFFUSE_N}; legal values "
+                "are gouraud, or a specular unit with n_first = 1"
+            )
+        if not 0 <= self.diffuse_spread_deg <= 180:
+            raise ValueError(
+                f"diffuse_spread_deg = {self.diffuse_spread_deg} is out of range: legal range "
+                "is 0..180 (degrees)"
             )
         g, d = self.gouraud, self.divider
         if d.a_width < g.di_width:
@@ -82,6 +118,11 @@ class PipelineConfig:
                 f"highlight_levels = {self.highlight_levels} is out of range: legal is > 0"
             )
 
+    @property
+    def uses_specular_unit(self) -> bool:
+        """True when some span may go through the specular unit (highlight or diffuse)."""
+        return self.specular_mode != "vertex" or self.diffuse_mode != "gouraud"
+
 
 METHODS: dict[str, PipelineConfig] = {
     "hybrid": PipelineConfig(),
@@ -89,6 +130,7 @@ METHODS: dict[str, PipelineConfig] = {
     "prototype": PipelineConfig(specular=specular.PROTOTYPE),
     "gouraud": PipelineConfig(specular_mode="vertex"),
     "adaptive": PipelineConfig(specular_mode="adaptive"),
+    "diffuse": PipelineConfig(diffuse_mode="unit"),
 }
 
 
@@ -118,6 +160,9 @@ class UnitJobs:
     Gouraud: ``i_start``, ``i_end`` (S, C) register values, ``intervals`` (S,).
     Divider jobs are the (span, channel) pairs with l >= 1: a = i_end - i_start, k = l.
     Specular: ``spec_span`` indexes the spans that go through the unit, with their registers.
+    Diffuse (the specular unit at n = ``DIFFUSE_N``): one job per (``diff_span``,
+    ``diff_channel``), span-major, with its registers ``diff_c``, ``diff_dz``, ``diff_z0``; the
+    specular unit receives them after the specular jobs.
     """
 
     intervals: np.ndarray
@@ -128,7 +173,17 @@ class UnitJobs:
     spec_dz: np.ndarray
     spec_z0: np.ndarray
     spec_n: np.ndarray
+    diff_span: np.ndarray
+    diff_channel: np.ndarray
+    diff_c: np.ndarray
+    diff_dz: np.ndarray
+    diff_z0: np.ndarray
     counters: dict[str, int] = field(default_factory=dict)
+
+    @property
+    def diff_n(self) -> np.ndarray:
+        """The diffuse jobs' exponent register: n = 1 for every job."""
+        return np.full(self.diff_span.size, DIFFUSE_N, dtype=np.int64)
 
     @property
     def divider_pairs(self) -> tuple[np.ndarray, np.ndarray]:
@@ -163,7 +218,20 @@ def build_jobs(spans: Spans, ctx: ShadeContext, cfg: PipelineConfig) -> UnitJobs
             f"1..{cfg.gouraud.len_max} pixels"
         )
     through_unit = _spans_through_specular_unit(spans, ctx, cfg)
+    diffuse_unit = _spans_with_diffuse_unit(spans, ctx, cfg)
+    s = cfg.specular
+    if through_unit.any() and not s.n_first <= ctx.material.n <= s.n_last:
+        raise ValueError(
+            f"material n = {ctx.material.n} (object {ctx.obj}) is out of range for this "
+            f"specular unit: legal range is {s.n_first}..{s.n_last} (its ROM 9 keeps only "
+            "those n: a unit fitted to a scene holds the n that scene used)"
+        )
     g_start, g_end = spans.g_start.copy(), spans.g_end.copy()
+    # With the diffuse term from the specular unit, the Gouraud unit carries the ambient term.
+    m = ctx.material
+    ambient = 255.0 * np.asarray(m.colour, dtype=np.float64) * m.ambient
+    g_start[diffuse_unit] = ambient
+    g_end[diffuse_unit] = ambient
     # Without the unit, the specular term is evaluated at the vertices and interpolated with
     # the diffuse one (classic Gouraud): it joins every channel of the span-end intensities.
     vertex = ~through_unit
@@ -171,6 +239,10 @@ def build_jobs(spans: Spans, ctx: ShadeContext, cfg: PipelineConfig) -> UnitJobs
     g_end[vertex] += spans.s_end[vertex, None]
     spec_span = np.nonzero(through_unit)[0].astype(np.int64)
     regs = _specular_registers(spans, ctx, cfg, spec_span, intervals)
+    channels = g_start.shape[1]
+    diff_span = np.repeat(np.nonzero(diffuse_unit)[0].astype(np.int64), channels)
+    diff_channel = np.tile(np.arange(channels, dtype=np.int64), diff_span.size // channels)
+    diff = _diffuse_registers(spans, ctx, cfg, diff_span, diff_channel, intervals)
     return UnitJobs(
         intervals=intervals,
         i_start=quantise_intensity(g_start, cfg.gouraud),
@@ -180,7 +252,19 @@ def build_jobs(spans: Spans, ctx: ShadeContext, cfg: PipelineConfig) -> UnitJobs
         spec_dz=regs[1],
         spec_z0=regs[2],
         spec_n=np.full(spec_span.size, ctx.material.n, dtype=np.int64),
+        diff_span=diff_span,
+        diff_channel=diff_channel,
+        diff_c=diff[0],
+        diff_dz=diff[1],
+        diff_z0=diff[2],
     )
+
+
+def _drawn_triangle_flags(spans: Spans, test) -> np.ndarray:
+    """Per span, the host's per-triangle test of its triangle; the host tests each triangle it
+    draws once (not the hidden or culled ones)."""
+    drawn, index = np.unique(spans.tri, return_inverse=True)
+    return test(drawn)[index]
 
 
 def _spans_through_specular_unit(spans: Spans, ctx: ShadeContext, cfg: PipelineConfig):
@@ -188,12 +272,25 @@ def _spans_through_specular_unit(spans: Spans, ctx: ShadeContext, cfg: PipelineC
         return np.ones(len(spans), dtype=bool)
     if cfg.specular_mode == "vertex":
         return np.zeros(len(spans), dtype=bool)
-    # The host tests each triangle it draws once (not the hidden or culled ones).
-    drawn, index = np.unique(spans.tri, return_inverse=True)
-    flags = object_highlight_flags(
-        ctx.scene, obj=ctx.obj, levels=cfg.highlight_levels, triangles=drawn
+    return _drawn_triangle_flags(
+        spans,
+        lambda drawn: object_highlight_flags(
+            ctx.scene, obj=ctx.obj, levels=cfg.highlight_levels, triangles=drawn
+        ),
     )
-    return flags[index]
+
+
+def _spans_with_diffuse_unit(spans: Spans, ctx: ShadeContext, cfg: PipelineConfig):
+    if cfg.diffuse_mode == "unit":
+        return np.ones(len(spans), dtype=bool)
+    if cfg.diffuse_mode == "gouraud":
+        return np.zeros(len(spans), dtype=bool)
+    return _drawn_triangle_flags(
+        spans,
+        lambda drawn: object_diffuse_flags(
+            ctx.scene, obj=ctx.obj, spread_deg=cfg.diffuse_spread_deg, triangles=drawn
+        ),
+    )
 
 
 def _specular_registers(
@@ -212,17 +309,54 @@ def _specular_registers(
     return setup.c_reg, setup.dz_reg, setup.z0_reg
 
 
-def assemble(gouraud_out: np.ndarray, specular_out: np.ndarray, out_max: int = 255) -> np.ndarray:
-    """Step 5: every channel = min(gouraud + specular, out_max), as uint8 pixels."""
+def _diffuse_registers(
+    spans: Spans,
+    ctx: ShadeContext,
+    cfg: PipelineConfig,
+    diff_span: np.ndarray,
+    diff_channel: np.ndarray,
+    intervals: np.ndarray,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The diffuse jobs' registers: ``setup_lines`` at n = 1 with L at the span ends in place
+    of H and light = k_d * colour_c * I_l (C cos(zeta) = 255 k_d colour_c I_l max(0, N.L))."""
+    m = ctx.material
+    l_start, _, _ = lighting_vectors(spans.p_start[diff_span], ctx.lighting)
+    l_end, _, _ = lighting_vectors(spans.p_end[diff_span], ctx.lighting)
+    light = m.k_d * np.asarray(m.colour, dtype=np.float64)[diff_channel] * ctx.lighting.intensity
+    setup = specular.setup_lines(
+        spans.n_start[diff_span],
+        spans.n_end[diff_span],
+        l_start,
+        l_end,
+        DIFFUSE_N,
+        light,
+        intervals[diff_span],
+        cfg.specular,
+    )
+    return setup.c_reg, setup.dz_reg, setup.z0_reg
+
+
+def assemble(
+    gouraud_out: np.ndarray,
+    specular_out: np.ndarray,
+    out_max: int = 255,
+    diffuse_out: np.ndarray | None = None,
+) -> np.ndarray:
+    """Step 5: every channel = min(gouraud + diffuse + specular, out_max), as uint8 pixels
+    (``diffuse_out``, (pixels, C), 0 where omitted)."""
     total = gouraud_out + specular_out[:, None]
+    if diffuse_out is not None:
+        total = total + diffuse_out
     return np.minimum(total, out_max).astype(np.uint8)
 
 
 def unit_counters(jobs: UnitJobs, cfg: PipelineConfig) -> dict[str, int]:
-    """Hardware cost of the jobs, from the models' cycle counts (start-to-start clocks)."""
+    """Hardware cost of the jobs, from the models' cycle counts (start-to-start clocks).  The
+    diffuse jobs run on the specular unit too; they are counted apart (``diffuse_*``)."""
     _, k = jobs.divider_operands()
     channels = jobs.i_start.shape[1]
     spec_l = jobs.intervals[jobs.spec_span]
+    diff_l = jobs.intervals[jobs.diff_span]
     return {
         "divider_jobs": int(k.size),
         "divider_cycles": int((divider.cycles(k, cfg.divider) + 1).sum()) if k.size else 0,
@@ -232,20 +366,26 @@ def unit_counters(jobs: UnitJobs, cfg: PipelineConfig) -> dict[str, int]:
         "specular_jobs": int(spec_l.size),
         "specular_pixels": int((spec_l + 1).sum()),
         "specular_cycles": int((specular.cycles(spec_l, cfg.specular) + 1).sum()),
+        "diffuse_jobs": int(diff_l.size),
+        "diffuse_pixels": int((diff_l + 1).sum()),
+        "diffuse_cycles": int((specular.cycles(diff_l, cfg.specular) + 1).sum()),
     }
 
 
 def run_units(jobs: UnitJobs, offsets: np.ndarray, cfg: PipelineConfig):
-    """The model's outputs for the jobs: (gouraud (pixels, C), specular (pixels,)), span s at
-    rows ``offsets[s] : offsets[s + 1]``; 0 on the spans that do not go through the specular
-    unit.  Every value comes from the units' batched public calls."""
+    """The model's outputs for the jobs: (gouraud (pixels, C), specular (pixels,), diffuse
+    (pixels, C)), span s at rows ``offsets[s] : offsets[s + 1]``; 0 on the spans that do not
+    go through the specular unit (for the highlight, or for the diffuse term).  Every value
+    comes from the units' batched public calls."""
     a, k = jobs.divider_operands()
     q, _ = divider.divide_many(a, k, cfg.divider)
     di = jobs.increments(q, cfg)
     starts = offsets[:-1]
-    g_out = np.zeros((int(offsets[-1]), jobs.i_start.shape[1]), dtype=np.int64)
+    channels = jobs.i_start.shape[1]
+    npix = int(offsets[-1])
+    g_out = np.zeros((npix, channels), dtype=np.int64)
     gouraud.shade_lines(jobs.i_start, di, jobs.intervals + 1, cfg.gouraud, out=g_out, at=starts)
-    s_out = np.zeros(int(offsets[-1]), dtype=np.int64)
+    s_out = np.zeros(npix, dtype=np.int64)
     specular.shade_lines(
         jobs.spec_c,
         jobs.spec_dz,
@@ -256,7 +396,19 @@ def run_units(jobs: UnitJobs, offsets: np.ndarray, cfg: PipelineConfig):
         out=s_out,
         at=starts[jobs.spec_span],
     )
-    return g_out, s_out
+    # The diffuse lines into a channel-major flat buffer: channel c's pixel p at c * npix + p.
+    d_flat = np.zeros(channels * npix, dtype=np.int64)
+    specular.shade_lines(
+        jobs.diff_c,
+        jobs.diff_dz,
+        jobs.diff_z0,
+        jobs.diff_n,
+        jobs.intervals[jobs.diff_span],
+        cfg.specular,
+        out=d_flat,
+        at=jobs.diff_channel * npix + starts[jobs.diff_span],
+    )
+    return g_out, s_out, d_flat.reshape(channels, npix).T
 
 
 def unit_shader(cfg: PipelineConfig):
@@ -264,12 +416,17 @@ def unit_shader(cfg: PipelineConfig):
 
     def shader(spans: Spans, ctx: ShadeContext) -> ShadeResult:
         jobs = build_jobs(spans, ctx, cfg)
-        gouraud_out, specular_out = run_units(jobs, spans.offsets, cfg)
+        gouraud_out, specular_out, diffuse_out = run_units(jobs, spans.offsets, cfg)
         counters = unit_counters(jobs, cfg)
         counters["triangles"] = int(np.count_nonzero(np.bincount(spans.tri)))
         counters["specular_triangles"] = int(
             np.count_nonzero(np.bincount(spans.tri[jobs.spec_span]))
         )
-        return ShadeResult(assemble(gouraud_out, specular_out), counters=counters)
+        counters["diffuse_triangles"] = int(
+            np.count_nonzero(np.bincount(spans.tri[jobs.diff_span]))
+        )
+        return ShadeResult(
+            assemble(gouraud_out, specular_out, diffuse_out=diffuse_out), counters=counters
+        )
 
     return shader

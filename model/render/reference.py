@@ -2,9 +2,10 @@
 """Float span shaders (the accuracy references) and the thesis's per-triangle highlight test.
 
 Owns the float shaders (``exact_blinn``, ``phong``, ``gouraud_float``, ``SHADERS``,
-``float_levels``, ``quantise``) and the highlight test (``highlight_threshold``,
+``float_levels``, ``quantise``), the highlight test (``highlight_threshold``,
 ``max_dot_over_spherical_triangle``, ``triangle_may_show_highlight``,
-``object_highlight_flags``).  May import numpy, numba and ``model.render`` ``scene``,
+``object_highlight_flags``) and the diffuse test (``normal_spread_deg``,
+``object_diffuse_flags``).  May import numpy, numba and ``model.render`` ``scene``,
 ``vectors``, ``spans`` and ``shade``.
 
 Shaders (``model.render.shade.Shader``: ``shader(spans, ctx) -> ShadeResult``), all in float64:
@@ -361,3 +362,34 @@ def object_highlight_flags(
         _, _, hv = lighting_vectors(mesh.vertices, params)
         hh = hv[tri]
     return triangle_may_show_highlight(nn, hh, o.material.n, thr)
+
+
+# ------------------------------------------------------------------------------------------------
+# the diffuse test (the diffuse term through the specular unit on curved triangles only)
+
+
+def normal_spread_deg(normals: np.ndarray) -> np.ndarray:
+    """The largest angle (degrees) between two of a triangle's vertex normals: (T, 3, 3) ->
+    (T,).  The normals are normalised here; 0 for a flat-shaded triangle."""
+    nn = np.asarray(normals, dtype=np.float64)
+    if nn.ndim != 3 or nn.shape[1:] != (3, 3):
+        raise ValueError(f"normals shape = {nn.shape} is not legal: legal is (T, 3, 3)")
+    nn = nn / np.linalg.norm(nn, axis=2, keepdims=True)
+    dots = np.stack(
+        [np.einsum("tk,tk->t", nn[:, i], nn[:, j]) for i, j in ((0, 1), (1, 2), (2, 0))], axis=1
+    )
+    return np.degrees(np.arccos(np.clip(dots.min(axis=1), -1.0, 1.0)))
+
+
+def object_diffuse_flags(
+    scene: Scene, obj: int = 0, spread_deg: float = 10.0, triangles: np.ndarray | None = None
+) -> np.ndarray:
+    """The host's cheap test for the diffuse term: True for the triangles of object ``obj``
+    (or just ``triangles``, in that order) whose vertex normals spread by more than
+    ``spread_deg`` degrees (``normal_spread_deg``), where linear interpolation of the
+    vertex-lit N.L is least accurate.  Flat triangles keep the Gouraud diffuse term, which is
+    then exact for a directional light."""
+    check_range("spread_deg", spread_deg, 0.0, 180.0)
+    mesh = scene.objects[obj].mesh
+    tri = mesh.triangles if triangles is None else mesh.triangles[np.asarray(triangles)]
+    return normal_spread_deg(mesh.normals[tri]) > spread_deg

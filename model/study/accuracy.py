@@ -14,6 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Any
 
+from model.units import divider
 from model.units.fixed import format_up
 
 
@@ -387,4 +388,62 @@ def format_figures(figs: Figures) -> str:
         "|---|---|---|---|---|",
     ]
     lines += [f"| {f.unit} | {f.name} | {f.text} | {f.holds} | {f.why} |" for f in figs.items]
+    return "\n".join(lines)
+
+
+# ------------------------------------------------------------------------------------------------
+# the divider's tables (make accuracy, shading divider-table, shading divider-trade)
+
+
+def divider_table1(recip_bits: int = 8, dividend: int = 255) -> list[dict]:
+    """Table 1 of the article, recomputed: terms, error and relative error for k = 2..16."""
+    cfg = divider.DividerConfig(a_width=9, k_width=5, recip_bits=recip_bits)
+    rows = []
+    for k in range(2, 17):
+        approx = divider.divide(dividend, k, cfg) / 2.0**recip_bits
+        exact = dividend / k
+        rows.append(
+            {
+                "k": k,
+                "terms": "+".join(f"1/{2**j}" for j in divider.reciprocal_terms(k, recip_bits)),
+                "error": approx - exact,
+                "relative_pct": 100.0 * (approx - exact) / exact,
+            }
+        )
+    return rows
+
+
+def format_table1() -> str:
+    rows = divider_table1()
+    lines = ["| k | terms | error | relative % |", "|---|---|---|---|"]
+    lines += [
+        f"| {r['k']} | {r['terms']} | {r['error']:+.4f} | {r['relative_pct']:+.2f} |" for r in rows
+    ]
+    worst = max(rows, key=lambda r: abs(r["error"]))
+    mean_rel = sum(abs(r["relative_pct"]) for r in rows) / len(rows)
+    lines.append("")
+    lines.append(  # the largest rounded up (a bound), like every worst case (accuracy.format_up)
+        f"max |error| {format_up(abs(worst['error']), 5)} at k = {worst['k']}; "
+        f"mean |relative error| over k = 2..16: {format_up(mean_rel, 4)} %"
+    )
+    return "\n".join(lines)
+
+
+def format_trade(k_max: int = 2047, bits: range = range(4, 21)) -> str:
+    lines = [
+        f"| N | worst abs error (255/k) | at k | worst rel error | at k | k with r = 0 "
+        f"| cycles max | cycles mean | (k = 1..{k_max}) |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    for n in bits:
+        r = divider.trade_row(n, k_max)
+        lines.append(
+            f"| {n} | {format_up(r.worst_abs_error, 4)} | {r.worst_abs_k} "
+            f"| {format_up(r.worst_rel_error, 3, 100)} % "
+            f"| {r.worst_rel_k} | {r.useless_k} | {r.cycles_max} | {r.cycles_mean:.2f} | |"
+        )
+    lines.append("")
+    lines.append(
+        f"exact restoring divider, default widths: {divider.cycles_exact()} cycles for every k"
+    )
     return "\n".join(lines)

@@ -2,7 +2,7 @@
 """Methods side by side on one scene: images, accuracy against (a), hardware cost, speed.
 
 The methods (``METHOD_LABELS``): (a) exact float Blinn with per-pixel spherical interpolation of
-N and H, the accuracy reference; (b) classic float Phong; (c)-(g) the bit-exact unit pipelines of
+N and H, the accuracy reference; (b) classic float Phong; (c)-(h) the bit-exact unit pipelines of
 ``model.pipeline``.  Every method shades the same rasterised spans (one ``rasterise`` per scene),
 so the figures isolate the shading.  Accuracy is measured against (a) with ``model.metrics``;
 hardware cost comes from the units' cycle counts (``pipeline.unit_counters``) and ROM sizes;
@@ -33,6 +33,7 @@ METHOD_LABELS: dict[str, str] = {
     "prototype": "(e) units: prototype cos^2",
     "gouraud": "(f) units: Gouraud only",
     "adaptive": "(g) units: structure-adaptive",
+    "diffuse": "(h) units: diffuse through the specular unit (n = 1)",
 }
 FLOAT_SHADERS = {"exact": reference.exact_blinn, "phong": reference.phong}
 DEFAULT_SCENE = "teapot"
@@ -90,7 +91,7 @@ def table_bits(method: str, cfg: pipeline.PipelineConfig | None = None) -> int:
         return 0
     cfg = cfg or pipeline.METHODS[method]
     bits = cfg.divider.rom_bits
-    if cfg.specular_mode != "vertex":
+    if cfg.uses_specular_unit:
         bits += cfg.specular.rom_bits
     return bits
 
@@ -167,8 +168,9 @@ def format_table(run: SceneRun) -> str:
     """The comparison table (markdown): accuracy against (a), hardware cost, software speed."""
     lines = [
         "| method | NMSE | PSNR dB | max err | px > 1 level | highlight max err "
-        "| divider cycles | Gouraud cycles | specular cycles | specular px | table bits | Mpx/s |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| divider cycles | Gouraud cycles | specular cycles | specular px | diffuse cycles "
+        "| table bits | Mpx/s |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for r in run.results.values():
         c, k = r.comparison, r.counters
@@ -178,14 +180,15 @@ def format_table(run: SceneRun) -> str:
             f"| {c.highlight_max_abs_error:.0f} "
             f"| {k.get('divider_cycles', '-')} | {k.get('gouraud_cycles', '-')} "
             f"| {k.get('specular_cycles', '-')} | {k.get('specular_pixels', '-')} "
-            f"| {r.table_bits} | {r.pixels_per_second / 1e6:.2f} |"
+            f"| {k.get('diffuse_cycles', '-')} | {r.table_bits} | {r.pixels_per_second / 1e6:.2f} |"
         )
     lines.append("")
     lines.append(
         f"NMSE against (a); ✓ = NMSE <= {metrics.NMSE_VISUALLY_IDENTICAL} (the thesis's "
         f"'visually identical'); highlight = {int(run.highlight.sum())} pixels where (a)'s "
         "specular term exceeds 8 levels; cycles are start-to-start clocks summed over the "
-        "frame's jobs (Gouraud: one unit per colour channel)."
+        "frame's jobs (Gouraud: one unit per colour channel; diffuse: the jobs of the diffuse "
+        "term on the specular unit at n = 1, one per span and channel)."
     )
     return "\n".join(lines)
 
@@ -281,14 +284,20 @@ TRADE_COMMAND = "python -m model trade --figure docs/"
 
 
 def trade_results_record(csv_path: Path) -> dict:
-    """What a sweep's ``results.csv`` holds, without its timings (they differ on every run):
+    """What a sweep's ``results.csv`` holds, without its timings (they differ on every run) and
+    without the synthesised columns (``trade.HW_FIELDS``: they come from the synthesis tools, whose
+    own record is docs/synth.json; leaving them out lets a check re-sweep with ``part=None``):
     the scenes, sizes and number of rows, and a digest of every other column (rows sorted,
     floats to 6 significant digits)."""
     import csv
 
+    from model.study.trade.hardware import HW_FIELDS
+
     with open(csv_path, newline="") as f:
         rows = list(csv.DictReader(f))
-    columns = sorted(c for c in (rows[0] if rows else {}) if "second" not in c)
+    columns = sorted(
+        c for c in (rows[0] if rows else {}) if "second" not in c and c not in HW_FIELDS
+    )
 
     def value(text: str) -> float | str:
         try:

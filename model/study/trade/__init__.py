@@ -1,9 +1,11 @@
 # SPDX-License-Identifier: Apache-2.0
 """The speed/accuracy trade study (``make trade``): every knob a config, swept over the scenes.
 
-The package: ``points`` (trade points, the knobs, the grids, the scenes a point names),
-``sweep`` (one point's figures, the result cache, the Dask engine), ``analysis`` (one row per
-configuration, the Pareto fronts, where the default lies) and ``outputs`` (CSV, markdown, plots);
+The package: ``points`` (trade points, the knobs, the grids, the scenes a point names, the points
+of configuration files), ``sweep`` (one point's figures, the result cache, the Dask engine),
+``hardware`` (the synthesised cost per configuration), ``analysis`` (one row per configuration,
+the Pareto fronts, where the default lies), ``outputs`` (CSV, markdown, plots) and ``labels``
+(plot labels that do not collide);
 this module holds ``main`` (``python -m model trade``) and re-exports the names the tests and the
 command line use.  May import ``model.render.meshes``, ``model.study.report`` and the package's own
 modules.
@@ -23,6 +25,7 @@ same bit-exact pipeline as ``make demo`` with other configurations, never specia
 | ``p`` | ``GouraudConfig.p`` (segment size: pixels per clock) | 8 |
 | ``specular_mode`` | ``PipelineConfig.specular_mode`` (unit, adaptive, vertex) | unit |
 | ``highlight_levels`` | ``PipelineConfig.highlight_levels`` (adaptive threshold) | 0.5 |
+| ``diffuse_mode`` | ``PipelineConfig.diffuse_mode`` (gouraud, unit, adaptive) | gouraud |
 
 ``SpecularConfig.a_int_bits`` follows from the k-set and alpha: the narrowest integer part that
 holds the largest a (3 bits for k = 16 tables, 5 for the prototype's cos^2: a up to 22.4).
@@ -43,12 +46,14 @@ worst-case line drift of the divider + Gouraud increment over the longest line (
 divider's figure that short scene spans cannot show); and cost:
 
 * ``cycles``: unit cycles per frame, the sum of the busy-plus-restart clocks of every job of every
-  unit (``pipeline.unit_counters``): the work, or the frame time of one unit of each kind in
-  series.
+  unit (``pipeline.unit_counters``; the diffuse jobs of ``diffuse_mode`` unit/adaptive, which
+  run on the specular unit at n = 1, are ``diffuse_cycles``): the work, or the frame time of
+  one unit of each kind in series.
 * ``frame_clocks`` (critical-path estimate): the units work in parallel on a stream of spans,
   one divider and one Gouraud unit per colour channel (3 each) and one specular unit (white
-  highlight), so a frame takes at least ``max(divider_cycles / 3, gouraud_cycles / 3,
-  specular_cycles)`` clocks (ideal buffering between them).
+  highlight, and the diffuse jobs), so a frame takes at least ``max(divider_cycles / 3,
+  gouraud_cycles / 3, specular_cycles + diffuse_cycles)`` clocks (ideal buffering between
+  them).
 * ``px_per_clock`` = shaded pixels / ``cycles``; ``px_per_clock_parallel`` = shaded pixels /
   ``frame_clocks``.
 * ``table_bits``: one copy of every ROM (``report.table_bits``: divider reciprocals, and ROM 9 +
@@ -56,9 +61,9 @@ divider's figure that short scene spans cannot show); and cost:
 * ``adders``, ``multipliers``: the datapath arithmetic of the units in the parallel picture:
   3 dividers x 1 accumulating adder, 3 Gouraud units x ``gouraud.adder_counts(P)["total"]``
   (increment network, segment lanes, rounding bias), 1 specular unit x (1 accumulator adder, 2
-  multipliers: x a and x C), no specular unit in "vertex" mode.  Rounding increments, comparators,
-  saturation and the final sum-and-saturate are not counted.  ``mult_bits``: the multipliers'
-  partial-product bits (width x width), a proxy for their area.
+  multipliers: x a and x C), no specular unit in "vertex" mode with the Gouraud diffuse term.
+  Rounding increments, comparators, saturation and the final sum-and-saturate are not counted.
+  ``mult_bits``: the multipliers' partial-product bits (width x width), a proxy for their area.
 * ``sw_pixels_per_second``: shaded pixels per second of the software model, best of ``repeats``
   timed runs after a warm-up (noisy: the workers share the machine).
 
@@ -72,11 +77,21 @@ sweep at a time per cache: ``sweep_lock`` (``<out>/cache/sweep.lock``, ``fcntl.f
 second one at once with the pid of the first (it does not wait).  ``main`` checks the output
 folders, the lock and the scheduler (``CONNECT_TIMEOUT``) before any work (``SetupError``).
 
+**Synthesised cost** (``--part``, default ``hardware.DEFAULT_PART``; None/"none": skipped):
+every distinct unit configuration the sweep uses through ``model.hw.synthesise`` on the same
+Dask cluster (``hardware.run_synthesis``); per configuration LUT, FF, BRAM, DSP (the units'
+sums), Fmax (the slowest unit's) and ``hw_mpx_per_s`` = ``px_per_clock_parallel`` x Fmax.
+
+**Configuration files** (``--config FILE``, ``ConfigPoint``): one more configuration each,
+labelled ``fit:<folder>`` or ``config:<stem>``, keyed by its content; a scene it refuses
+(``ValueError``) is reported as refused, not failed.
+
 **Outputs** (``write_outputs``): ``results.csv`` (one row per point), ``results.md`` (per config,
 the mean/worst over the scenes, grouped by sweep, with the Pareto marks and what each knob buys),
-``pareto_cycles.png`` and ``pareto_bits.png`` (the thesis's "visually identical" NMSE
-threshold drawn as a labelled line; the front points and the default labelled, the labels
-placed so that they do not collide: ``outputs.place_labels``).
+``pareto_cycles.png``, ``pareto_bits.png``, ``pareto_lut.png`` (when synthesised) and
+``pareto_throughput.png`` (the thesis's "visually identical" NMSE threshold drawn as a labelled
+line; the front points, the default and the configuration files' points labelled, the labels
+placed so that they do not collide: ``labels.place_labels``).
 """
 
 from __future__ import annotations
@@ -86,6 +101,7 @@ import time
 from collections.abc import Sequence
 from pathlib import Path
 
+from model.render import configfile, pipeline
 from model.render import scenefile as _scenefile
 from model.study import report
 from model.study.trade.analysis import (
@@ -96,6 +112,16 @@ from model.study.trade.analysis import (
     front_objectives,
     near_front,
     pareto_mask,
+)
+from model.study.trade.hardware import (
+    DEFAULT_PART,
+    HW_FIELDS,
+    PART_CHOICES,
+    SynthOutcome,
+    attach,
+    check_part,
+    run_synthesis,
+    unit_configs,
 )
 from model.study.trade.outputs import (
     CSV_FIELDS,
@@ -118,9 +144,11 @@ from model.study.trade.points import (
     KNOBS,
     NAMED,
     SMALL_SWEEPS,
+    ConfigPoint,
     Sweep,
     TradePoint,
     a_int_bits_for,
+    config_from_dict,
     grid_configs,
     grid_points,
     point_scene,
@@ -150,28 +178,37 @@ __all__ = [
     "CONNECT_TIMEOUT",
     "CSV_FIELDS",
     "DEFAULT_OUT",
+    "DEFAULT_PART",
     "DEFAULT_POINT",
     "DEFAULT_SIZE",
     "FILE_KEY",
     "FULL_PRODUCT",
     "GRIDS",
+    "HW_FIELDS",
     "KNOBS",
     "K_SETS",
     "LOCK_NAME",
     "NAMED",
     "NEAR",
+    "PART_CHOICES",
     "RESULT_RANGES",
     "SMALL_SWEEPS",
+    "ConfigPoint",
     "SetupError",
     "Sweep",
     "SweepOutcome",
+    "SynthOutcome",
     "TradePoint",
     "a_int_bits_for",
     "aggregate",
+    "attach",
     "cache_path",
+    "check_configs",
+    "check_part",
     "check_result",
     "check_sources",
     "check_workers",
+    "config_from_dict",
     "connect",
     "default_position",
     "eps_dominates",
@@ -193,8 +230,10 @@ __all__ = [
     "read_cached",
     "row_knobs",
     "run_sweep",
+    "run_synthesis",
     "store",
     "sweep_lock",
+    "unit_configs",
     "write_csv",
     "write_outputs",
 ]
@@ -224,6 +263,41 @@ def check_sources(sources: Sequence[_scenefile.SceneSource]) -> dict[str, _scene
     return files
 
 
+def config_label(path: Path) -> str:
+    """A configuration file's label on the plots: ``fit:<folder>`` for the ``config.toml`` of a
+    ``shading fit`` bundle (``out/fit/teapot/config.toml``: ``fit:teapot``), else
+    ``config:<file stem>``."""
+    path = Path(path)
+    if path.name == "config.toml" and path.parent.name:
+        return f"fit:{path.parent.name}"
+    return f"config:{path.stem}"
+
+
+def check_configs(paths: Sequence[Path]) -> list[tuple[str, pipeline.PipelineConfig]]:
+    """(label, configuration) of every ``--config`` file (``configfile.read_config``), labels
+    made unique; or ``SetupError`` (status 2, before any work) in one line naming the file."""
+    out: list[tuple[str, pipeline.PipelineConfig]] = []
+    labels: set[str] = set()
+    for path in paths:
+        try:
+            cfg = configfile.read_config(path)
+        except ValueError as exc:
+            raise SetupError(f"argument --config: {' '.join(str(exc).split())}", 2) from None
+        label, n = config_label(path), 2
+        while label in labels:
+            label, n = f"{config_label(path)}#{n}", n + 1
+        labels.add(label)
+        out.append((label, cfg))
+    return out
+
+
+def _check_part(part: str | None) -> str | None:
+    try:
+        return check_part(part)
+    except ValueError as exc:
+        raise SetupError(f"argument --part: {exc}", 2) from None
+
+
 # ================================================================================ the command
 def main(
     scenes: Sequence[str | _scenefile.SceneSource] = _scenefile.SCENE_NAMES,
@@ -238,6 +312,8 @@ def main(
     *,
     meshes: list[Path] | None = None,
     up: str = "auto",
+    part: str | None = DEFAULT_PART,
+    configs: Sequence[Path] = (),
 ) -> int:
     """``python -m model trade``: sweep, cache, write the outputs, print the summary.
 
@@ -247,8 +323,17 @@ def main(
     command-line arguments): every file must load and frame, ``out_dir`` and ``figure_dir`` must
     be folders this user can create and write in, the sweep lock of ``out_dir/cache`` must be
     free (a second sweep on the same ``--out`` is refused, it does not wait) and ``scheduler``
-    must answer within ``connect_timeout`` seconds."""
+    must answer within ``connect_timeout`` seconds.
+
+    ``part`` (``--part``; None or "none": no synthesis): the part every unit configuration the
+    sweep uses is synthesised on (``hardware.run_synthesis``, on the sweep's Dask cluster),
+    giving the LUT, FF, BRAM, DSP, Fmax and hardware Mpx/s columns.  ``configs`` (``--config``):
+    pipeline configuration files, each one more configuration over the scenes
+    (``ConfigPoint``); a scene such a configuration refuses (``ValueError``: a span too long,
+    an n it does not keep) is reported, not a failure."""
     workers = check_workers(workers, allow_zero=True)
+    part = _check_part(part)
+    files_cfg = check_configs(configs)
     builtin = [
         s.ref if isinstance(s, _scenefile.SceneSource) else s
         for s in scenes
@@ -258,7 +343,10 @@ def main(
     given += [_scenefile.SceneSource("mesh", str(m), up) for m in meshes or []]
     files = check_sources(given)
     scene_keys = list(dict.fromkeys([*builtin, *files]))
-    points = grid_points(grid, scene_keys, size)
+    points: list[TradePoint] = grid_points(grid, scene_keys, size)
+    points += [
+        ConfigPoint.from_config(label, cfg, s, size) for label, cfg in files_cfg for s in scene_keys
+    ]
     out_dir = report.check_output_dir("--out", Path(out_dir))
     cache_dir = report.check_output_dir("--out", out_dir / "cache")
     if figure_dir is not None:
@@ -278,6 +366,7 @@ def main(
                 figure_dir,
                 repeats,
                 evaluate_fn,
+                part,
             )
         finally:
             if client is not None:
@@ -285,9 +374,31 @@ def main(
 
 
 def _main(
-    points, scenes, size, grid, out_dir, workers, client, figure_dir, repeats, evaluate_fn
+    points, scenes, size, grid, out_dir, workers, client, figure_dir, repeats, evaluate_fn, part
 ) -> int:
     began = time.perf_counter()
+    own = None
+    if client is None and workers != 0:
+        todo = any(load_cached(out_dir / "cache", p) is None for p in points)
+        if todo or part is not None:  # one cluster for the points and the synthesis runs
+            client = own = make_client(workers)
+    try:
+        return _sweep_and_report(
+            points, scenes, size, grid, out_dir, workers, client, figure_dir, repeats,
+            evaluate_fn, part, began,
+        )  # fmt: skip
+    finally:
+        if own is not None:
+            cluster = own.cluster
+            own.close()
+            if cluster is not None:
+                cluster.close()
+
+
+def _sweep_and_report(
+    points, scenes, size, grid, out_dir, workers, client, figure_dir, repeats, evaluate_fn, part,
+    began,
+) -> int:  # fmt: skip
     n_cfg = len({p.config_key for p in points})
     print(
         f"== trade: grid {grid!r}, {n_cfg} configurations x {len(scenes)} scenes "
@@ -302,7 +413,23 @@ def _main(
         evaluate_fn=evaluate_fn,
         lock=False,  # main holds it
     )
-    rows, written = write_outputs(outcome.results, out_dir, figure_dir)
+    by_key = {p.key: p for p in points}
+    refused = {
+        k: f"{by_key[k].label} on {by_key[k].scene}: {err.split(': ', 1)[-1]}"
+        for k, err in outcome.failed.items()
+        if isinstance(by_key.get(k), ConfigPoint) and "ValueError(" in err
+    }
+    failed = {k: e for k, e in outcome.failed.items() if k not in refused}
+    results = outcome.results
+    synth = None
+    if part is not None and results:
+        cfgs = {p.config_key: p.to_pipeline_config() for p in points}
+        wanted = {k: cfgs[k] for k in dict.fromkeys(r["config_key"] for r in results)}
+        print(f"trade: synthesising the units of {len(wanted)} configurations on {part}")
+        synth = run_synthesis(wanted, part, client=client)
+        results = attach(results, synth.figures, part)
+        print(f"trade: {synth.jobs} unit configurations synthesised in {synth.seconds:.1f} s")
+    rows, written = write_outputs(results, out_dir, figure_dir, refused=list(refused.values()))
     print("\n== What each knob buys ==")
     print("\n".join(knob_summary(sw, rows) for sw in SMALL_SWEEPS))
     print("\n== Where the default lies ==")
@@ -314,8 +441,13 @@ def _main(
     )
     print(
         f"trade: {outcome.evaluated} evaluated{recomputed}, {outcome.cached} from the cache, "
-        f"{len(outcome.failed)} failed; took {time.perf_counter() - began:.1f} s"
+        f"{len(failed)} failed, {len(refused)} refused by their configuration file; took "
+        f"{time.perf_counter() - began:.1f} s"
     )
-    for key, err in outcome.failed.items():
+    for why in refused.values():
+        print(f"REFUSED {why}")
+    for key, err in failed.items():
         print(f"FAILED {key}: {err}")
-    return 1 if outcome.failed else 0
+    for unit, err in (synth.failed if synth else {}).items():
+        print(f"SYNTHESIS FAILED {unit}: {err}")
+    return 1 if failed or (synth and synth.failed) else 0

@@ -3,7 +3,7 @@
 
 Owns ``aggregate`` (one row per configuration over the scenes, with its Pareto marks),
 ``pareto_mask``, ``eps_dominates`` and ``near_front`` (``NEAR``), ``front_objectives`` and
-``default_position``.  May import numpy and ``model.study.trade.points``.
+``default_position``, ``throughput_axis``.  May import numpy and ``model.study.trade.points``.
 """
 
 from __future__ import annotations
@@ -85,16 +85,36 @@ def aggregate(results: list[dict]) -> list[dict]:
             multipliers=first["multipliers"],
             mult_bits=first["mult_bits"],
             sw_pixels_per_second=tot["pixels_shaded"] / max(tot["shade_seconds"], 1e-12),
+            config_name=first.get("config_label", ""),
         )
+        fmax = float(first.get("fmax_mhz", np.nan))
+        row.update({k: first.get(k, np.nan) for k in ("lut", "ff", "bram", "dsp")})
+        row.update(part=first.get("part", "none"), fmax_mhz=fmax)
+        row["hw_mpx_per_s"] = row["px_per_clock_parallel"] * fmax
         rows.append(row)
     objectives = {
         "cycles": np.array([[r["nmse"], r["cycles"]] for r in rows]),
         "bits": np.array([[r["nmse"], r["table_bits"]] for r in rows]),
+        "lut": np.array([[r["nmse"], r["lut"]] for r in rows], dtype=np.float64),
+        # throughput is maximised: its negative minimised
+        "throughput": np.array([[r["nmse"], -r[throughput_axis(rows)]] for r in rows]),
     }
     for name, obj in objectives.items():
-        for r, on in zip(rows, pareto_mask(obj), strict=True):
-            r[f"pareto_{name}"] = bool(on)
+        obj = obj.reshape(len(rows), 2)
+        ok = np.all(np.isfinite(obj), axis=1)
+        on = np.zeros(len(rows), dtype=bool)
+        on[ok] = pareto_mask(obj[ok])
+        for r, v in zip(rows, on, strict=True):
+            r[f"pareto_{name}"] = bool(v)
     return rows
+
+
+def throughput_axis(rows: list[dict]) -> str:
+    """The throughput the rows are compared on: the hardware's Mpx/s (``hw_mpx_per_s``: pixels
+    per clock x the synthesised Fmax) when some row has it, else pixels per clock of the
+    parallel units (``px_per_clock_parallel``: shaded pixels / frame clocks)."""
+    has_hw = any(np.isfinite(float(r.get("hw_mpx_per_s", np.nan))) for r in rows)
+    return "hw_mpx_per_s" if has_hw else "px_per_clock_parallel"
 
 
 def default_row(rows: list[dict]) -> int | None:
@@ -124,11 +144,15 @@ def front_objectives(rows: list[dict]) -> dict[str, np.ndarray]:
     worst = np.nan_to_num(worst, nan=np.inf)
     nmse = np.array([[r["nmse"]] for r in rows], dtype=np.float64).reshape(len(rows), 1)
     costs = np.array([[r[c] for c in ALL_COSTS] for r in rows], dtype=np.float64)
-    return {
+    fronts = {
         "cycles": np.hstack([nmse, costs[:, :1]]),
         "table bits": np.hstack([nmse, costs[:, 1:2]]),
         "all figures": np.hstack([nmse, worst, costs]),
     }
+    lut = np.array([[r.get("lut", np.nan)] for r in rows], dtype=np.float64).reshape(-1, 1)
+    if rows and np.all(np.isfinite(lut)):
+        fronts["LUTs"] = np.hstack([nmse, lut])
+    return fronts
 
 
 def default_position(rows: list[dict], eps: float = NEAR) -> dict[str, list[str]]:

@@ -11,14 +11,26 @@ Owns ``write_outputs`` (``results.csv``, ``results.md``, ``pareto_cycles.png``,
 from __future__ import annotations
 
 import csv
-import itertools
 from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
 
 from model.study import metrics
-from model.study.trade.analysis import NEAR, aggregate, default_position, default_row
+from model.study.trade.analysis import (
+    NEAR,
+    aggregate,
+    default_position,
+    default_row,
+    throughput_axis,
+)
+from model.study.trade.hardware import HW_FIELDS
+from model.study.trade.labels import (
+    marker_boxes,
+    overlap,
+    place_labels,
+    polyline_boxes,
+)
 from model.study.trade.points import DEFAULT_POINT, KNOBS, SMALL_SWEEPS, Sweep, row_knobs
 
 # ================================================================================ outputs
@@ -43,6 +55,8 @@ CSV_FIELDS = (
     "gouraud_cycles",
     "specular_cycles",
     "specular_pixels",
+    "diffuse_cycles",
+    "diffuse_pixels",
     "cycles",
     "frame_clocks",
     "px_per_clock",
@@ -51,6 +65,7 @@ CSV_FIELDS = (
     "adders",
     "multipliers",
     "mult_bits",
+    *HW_FIELDS,
     "shade_seconds",
     "sw_pixels_per_second",
     "key",
@@ -78,13 +93,34 @@ TABLE_HEAD = (
     "| config | NMSE (mean) | PSNR dB (min) | max err | epicentre err (n) | unit err (LSB) "
     "| line drift "
     "| angle drift | cycles/frame | frame clocks | px/clk | px/clk par. | table bits | adders "
-    "| mult (bits) | Mpx/s | front |\n"
-    "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+    "| mult (bits) | LUT | FF | BRAM | DSP | Fmax MHz | hw Mpx/s | sw Mpx/s | front |\n"
+    "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
 )
 
 
+def _int(x: float) -> str:
+    return "-" if not np.isfinite(float(x)) else f"{int(x):,}"
+
+
+def _hw(r: dict) -> str:
+    """The synthesised columns: LUT, FF, BRAM, DSP, Fmax, the hardware's Mpx/s."""
+    cells = [_int(r[k]) for k in ("lut", "ff", "bram", "dsp")]
+    fmax, mpx = float(r["fmax_mhz"]), float(r["hw_mpx_per_s"])
+    cells += ["-" if not np.isfinite(fmax) else f"{fmax:.1f}", _num(mpx)]
+    return " | ".join(cells)
+
+
+FRONT_MARKS = {
+    "C": "pareto_cycles",
+    "B": "pareto_bits",
+    "L": "pareto_lut",
+    "T": "pareto_throughput",
+}
+"""The marks of the "front" column: the fronts a configuration is on (``analysis.aggregate``)."""
+
+
 def table_row(r: dict) -> str:
-    marks = ("C" if r["pareto_cycles"] else "") + ("B" if r["pareto_bits"] else "")
+    marks = "".join(m for m, k in FRONT_MARKS.items() if r[k])
     epi = (
         f"{_pct(r['epicentre_rel_error'])} ({r['epicentre_worst_n']})"
         if np.isfinite(r["epicentre_rel_error"])
@@ -97,14 +133,14 @@ def table_row(r: dict) -> str:
         f"| {r['line_drift_levels']:.3f} | {_num(r['angle_drift_steps'])} "
         f"| {r['cycles']:,.0f} | {r['frame_clocks']:,.0f} "
         f"| {r['px_per_clock']:.3f} | {r['px_per_clock_parallel']:.3f} | {r['table_bits']:,} "
-        f"| {r['adders']} | {r['multipliers']} ({r['mult_bits']}) "
+        f"| {r['adders']} | {r['multipliers']} ({r['mult_bits']}) | {_hw(r)} "
         f"| {r['sw_pixels_per_second'] / 1e6:.2f} | {marks or '-'} |"
     )
 
 
 def sweep_rows(sweep: Sweep, rows: list[dict]) -> list[dict]:
     """The aggregated rows of the sweep's configurations, in the sweep's order."""
-    by_knobs = {tuple(r[k] for k in KNOBS): r for r in rows}
+    by_knobs = {tuple(r[k] for k in KNOBS): r for r in rows if not r.get("config_name")}
     out = []
     for c in sweep.configs():
         knobs = {**DEFAULT_POINT.knobs, **c}
@@ -141,14 +177,20 @@ def knob_summary(sweep: Sweep, rows: list[dict]) -> str:
     )
 
 
-def format_markdown(rows: list[dict], sweeps: Sequence[Sweep] = SMALL_SWEEPS) -> str:
+def format_markdown(
+    rows: list[dict], sweeps: Sequence[Sweep] = SMALL_SWEEPS, refused: Sequence[str] = ()
+) -> str:
     lines = ["# Speed/accuracy trade", ""]
     if rows:
         lines.append(
             f"Scenes: {rows[0]['scenes']} at {rows[0]['size']} x {rows[0]['size']}; accuracy "
             "against exact Blinn (a): NMSE mean, PSNR and max error worst over the scenes; "
             "cost per frame: mean over the scenes.  front: C = on the NMSE-vs-cycles Pareto "
-            "front, B = on the NMSE-vs-table-bits front (over every configuration of the run)."
+            "front, B = on the NMSE-vs-table-bits front, L = on the NMSE-vs-LUTs front, T = on "
+            f"the NMSE-vs-{throughput_axis(rows)} front (over every configuration of the run).  "
+            f"LUT, FF, BRAM, DSP: the units' own cells on {rows[0]['part']} (sums over the "
+            "units the configuration uses), Fmax: the slowest unit's, hw Mpx/s: px/clk par. x "
+            "Fmax; sw Mpx/s: the software model."
         )
         lines.append("")
     shown: set[str] = set()
@@ -160,9 +202,17 @@ def format_markdown(rows: list[dict], sweeps: Sequence[Sweep] = SMALL_SWEEPS) ->
         lines += [table_row(r) for r in rs]
         lines.append("")
         shown.update(r["config_key"] for r in rs)
-    rest = [r for r in rows if r["config_key"] not in shown]
+    rest = [r for r in rows if r["config_key"] not in shown and not r.get("config_name")]
     if rest:
         lines += ["## other configurations", "", TABLE_HEAD, *map(table_row, rest), ""]
+    files = [r for r in rows if r.get("config_name")]
+    if files or refused:
+        lines += ["## configuration files (`--config`)", ""]
+        lines += [f"* {r['config_name']}: scenes {r['scenes']}" for r in files]
+        lines += [f"* refused: {why}" for why in refused]
+        if files:
+            lines += ["", TABLE_HEAD, *map(table_row, files)]
+        lines.append("")
     lines += ["## What each knob buys", ""]
     lines += [knob_summary(sw, rows) for sw in sweeps]
     lines += ["", "## Where the default lies", ""]
@@ -180,145 +230,18 @@ def format_markdown(rows: list[dict], sweeps: Sequence[Sweep] = SMALL_SWEEPS) ->
 
 THRESHOLD_LABEL = "visually identical: NMSE ≤ {:g} (thesis)"
 """The label of the thesis's "visually identical" line (``metrics.NMSE_VISUALLY_IDENTICAL``)."""
-LABEL_STEPS_PT = (7, 14, 22, 32, 44, 58)
-"""Distances (points) from a data point at which ``place_labels`` tries its label."""
-LABEL_DIRECTIONS = (  # (dx, dy, horizontal alignment, vertical alignment)
-    (1, 0, "left", "center"),
-    (1, 1, "left", "bottom"),
-    (1, -1, "left", "top"),
-    (0, 1, "center", "bottom"),
-    (0, -1, "center", "top"),
-    (-1, 0, "right", "center"),
-    (-1, 1, "right", "bottom"),
-    (-1, -1, "right", "top"),
-)
 
 
 def point_label(r: dict) -> str:
     """A row's label on the plots: "default", a named combination, the changed knob of its
     sweep (``p=4``, ``highlight_levels=16``), else every changed knob, one per line."""
+    if r.get("config_name"):
+        return r["config_name"]
     group = DEFAULT_POINT.with_knobs(**row_knobs(r)).group
     if group in KNOBS:
         v = r[group]
         return f"{group}={v:g}" if isinstance(v, float) else f"{group}={v}"
     return r["label"].replace(", ", "\n")
-
-
-def _overlap(a, b) -> float:
-    """Area (pixels²) two display boxes share."""
-    w = min(a.x1, b.x1) - max(a.x0, b.x0)
-    h = min(a.y1, b.y1) - max(a.y0, b.y0)
-    return w * h if w > 0 and h > 0 else 0.0
-
-
-def _outside(box, frame) -> float:
-    """Area (pixels²) of ``box`` outside ``frame``."""
-    return box.width * box.height - _overlap(box, frame)
-
-
-def _segment_boxes(p0, p1, skip: float = 0.0, half: float = 1.0) -> list:
-    """Small display boxes every 3 pixels along the segment p0 -> p1, from ``skip`` pixels."""
-    from matplotlib.transforms import Bbox
-
-    p0, p1 = np.asarray(p0, dtype=float), np.asarray(p1, dtype=float)
-    length = float(np.hypot(*(p1 - p0)))
-    out = []
-    for t in np.arange(skip, length, 3.0) / max(length, 1e-9):
-        u, v = p0 + t * (p1 - p0)
-        out.append(Bbox([[u - half, v - half], [u + half, v + half]]))
-    return out
-
-
-def _distance(point, box) -> float:
-    """Pixels from a display point to a display box (0 inside it)."""
-    dx = max(box.x0 - point[0], 0.0, point[0] - box.x1)
-    dy = max(box.y0 - point[1], 0.0, point[1] - box.y1)
-    return float(np.hypot(dx, dy))
-
-
-def _polyline_boxes(ax, xs, ys) -> list:
-    """``_segment_boxes`` along a line through data points (in their order)."""
-    pts = ax.transData.transform(np.c_[xs, ys])
-    return [b for a, c in itertools.pairwise(pts) for b in _segment_boxes(a, c)]
-
-
-def place_labels(ax, xy, texts, markers=(), avoid=(), others=(), fontsize: float = 6.0) -> list:
-    """Label the data points ``xy`` ((m, 2), data coordinates) with ``texts`` so that no label
-    overlaps another label or leader line, a marker or a line (``markers``: display boxes) or a
-    box of ``avoid``, and every label stays inside the axes.
-
-    Greedy and deterministic: from left to right, each label takes the first free spot among 8
-    directions at the distances ``LABEL_STEPS_PT``, joined to its point by a thin leader line
-    that crosses no label; a spot is free when, besides, the label covers no marker or line and
-    is nearer its own point than any other labelled point or any of ``others`` (the unlabelled
-    data points).  On a plot too crowded for that: the spot that overlaps the labels least,
-    then covers and misleads least.  Call it once the axes' limits and the figure's layout are
-    final (labels are offsets in points from their data point, so a later change of either can
-    move them into each other).
-    Returns the annotations.
-    """
-    renderer = ax.figure.canvas.get_renderer()
-    frame = ax.get_window_extent(renderer)
-    scale = ax.figure.dpi / 72
-    xy = np.asarray(xy, dtype=float).reshape(-1, 2)
-    px = ax.transData.transform(xy)
-    others_px = ax.transData.transform(np.asarray(others, dtype=float).reshape(-1, 2))
-    taken = list(avoid)
-    placed = []
-
-    def label(i, offset, ha, va, leader=None):
-        return ax.annotate(
-            texts[i],
-            xy[i],
-            xytext=offset,
-            textcoords="offset points",
-            ha=ha,
-            va=va,
-            fontsize=fontsize,
-            arrowprops=leader,
-            zorder=6,
-        )
-
-    for i in np.lexsort((px[:, 1], px[:, 0])):
-        best = None
-        for step in LABEL_STEPS_PT:
-            for dx, dy, ha, va in LABEL_DIRECTIONS:
-                offset = (dx * step, dy * step)
-                probe = label(i, offset, ha, va)
-                box = probe.get_window_extent(renderer).padded(2)  # a gap between labels
-                probe.remove()
-                lead = _segment_boxes(px[i], px[i] + np.multiply(offset, scale), skip=10)
-                # hard: outside the axes, on a label or a leader
-                clash = 10 * _outside(box, frame) + sum(_overlap(box, b) for b in taken)
-                clash += sum(_overlap(s, b) for s in lead for b in taken)
-                # soft: on a marker or a line, or nearer another point than its own
-                own = _distance(px[i], box)
-                soft = sum(_overlap(box, b) for b in markers)
-                soft += 0.5 * sum(_overlap(s, b) for s in lead for b in markers)
-                soft += 300 * sum(_distance(q, box) < own for q in np.delete(px, i, axis=0))
-                soft += 60 * sum(_distance(q, box) < own for q in others_px)
-                cost = (clash, soft)
-                if best is None or cost < best[0]:
-                    best = (cost, offset, ha, va, box, lead)
-                if cost == (0, 0):
-                    break
-            if best[0] == (0, 0):
-                break
-        _, offset, ha, va, box, lead = best
-        leader = {"arrowstyle": "-", "lw": 0.6, "color": "0.3", "shrinkA": 1, "shrinkB": 2}
-        placed.append(label(i, offset, ha, va, leader))
-        taken += [box, *lead]
-    return placed
-
-
-def _marker_boxes(ax, xs, ys, size: float) -> list:
-    """Display boxes of scatter markers of area ``size`` (points²) at the data points."""
-    from matplotlib.transforms import Bbox
-
-    r = np.sqrt(size) / 2 * ax.figure.dpi / 72
-    return [
-        Bbox([[u - r, v - r], [u + r, v + r]]) for u, v in ax.transData.transform(np.c_[xs, ys])
-    ]
 
 
 def _threshold_line(ax, markers: list, fontsize: float):
@@ -346,7 +269,7 @@ def _threshold_line(ax, markers: list, fontsize: float):
                 zorder=4,
             )
             box = text.get_window_extent(renderer)
-            cost = sum(_overlap(box.padded(2), m) for m in markers)
+            cost = sum(overlap(box.padded(2), m) for m in markers)
             if best is None or cost < best[0]:
                 if best is not None:
                     best[1].remove()
@@ -358,21 +281,39 @@ def _threshold_line(ax, markers: list, fontsize: float):
     return best[2]
 
 
+X_AXES: dict[str, tuple[str, str, bool]] = {
+    "cycles": ("pareto_cycles", "unit cycles per frame (mean over scenes)", False),
+    "table_bits": ("pareto_bits", "ROM bits", True),
+    "lut": ("pareto_lut", "LUTs (synthesised, the units' own)", False),
+    "hw_mpx_per_s": ("pareto_throughput", "Mpx/s of the hardware (px/clk x Fmax)", False),
+    "px_per_clock_parallel": ("pareto_throughput", "pixels per clock (parallel units)", False),
+}
+"""The x axes of ``plot_pareto``: (front field, axis label, log scale)."""
+
+
+def _group(r: dict) -> str:
+    return "fitted" if r.get("config_name") else DEFAULT_POINT.with_knobs(**row_knobs(r)).group
+
+
 def plot_pareto(
     rows: list[dict], x: str, path: Path | None = None, ax=None, legend: bool = True
 ) -> Path | None:
-    """NMSE (log) against ``x`` ("cycles" or "table_bits"): every configuration coloured by its
-    sweep, the Pareto front dashed, the default starred, the thesis's "visually identical"
-    threshold as a labelled line, and the front points and the default labelled without
-    collisions (``place_labels``).  With ``ax``, draws into it (its figure's layout must be
-    final) and returns None; otherwise writes ``path``."""
+    """NMSE (log) against ``x`` (``X_AXES``: cycles, table bits, LUTs, throughput): every
+    configuration coloured by its sweep, the Pareto front dashed, the default starred, the
+    configuration files' points (``--config``) as black diamonds, the thesis's "visually
+    identical" threshold as a labelled line, and the front points, the default and the files'
+    points labelled without collisions (``place_labels``).  Rows without a value of ``x`` (no
+    synthesis) are left out.  With ``ax``, draws into it (its figure's layout must be final) and
+    returns None; otherwise writes ``path``."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    front_key = "pareto_cycles" if x == "cycles" else "pareto_bits"
-    xlabel = "unit cycles per frame (mean over scenes)" if x == "cycles" else "ROM bits"
+    front_key, xlabel, log_x = X_AXES[x]
+    if x == "lut" and rows:
+        xlabel = xlabel.replace("synthesised", f"synthesised on {rows[0]['part']}")
+    rows = [r for r in rows if np.isfinite(float(r[x]))]
     own = ax is None
     if own:
         fig, ax = plt.subplots(figsize=(8.4, 4.8), dpi=100)
@@ -380,9 +321,9 @@ def plot_pareto(
     fontsize = 6.5 if own else 6.0
     xs = np.array([r[x] for r in rows], dtype=float)
     ys = np.array([r["nmse"] for r in rows], dtype=float)
-    front = np.array([r[front_key] for r in rows])
-    knob = [DEFAULT_POINT.with_knobs(**row_knobs(r)).group for r in rows]
-    kinds = sorted(set(knob) - {"default"})
+    front = np.array([bool(r[front_key]) for r in rows], dtype=bool)
+    knob = [_group(r) for r in rows]
+    kinds = sorted(set(knob) - {"default", "fitted"})
     cmap = plt.get_cmap("tab10")
     for i, kname in enumerate(kinds):
         sel = np.array([k == kname for k in knob])
@@ -393,9 +334,14 @@ def plot_pareto(
     d = default_row(rows)
     if d is not None:
         ax.scatter([xs[d]], [ys[d]], s=140, marker="*", color="red", zorder=5, label="default")
+    fitted = [i for i, k in enumerate(knob) if k == "fitted"]
+    if fitted:
+        ax.scatter(
+            xs[fitted], ys[fitted], s=70, marker="D", color="k", zorder=5, label="fitted (--config)"
+        )
     ax.axhline(metrics.NMSE_VISUALLY_IDENTICAL, lw=0)  # in the y limits before they freeze
     ax.set_yscale("log")
-    if x == "table_bits":
+    if log_x:
         ax.set_xscale("log")
     ax.set_xlabel(xlabel)
     ax.set_ylabel("NMSE vs exact Blinn (mean over scenes)")
@@ -404,13 +350,11 @@ def plot_pareto(
         ax.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.02, 1.0), borderaxespad=0)
     ax.set_xlim(ax.get_xlim())  # freeze the limits: the labels are placed in them
     ax.set_ylim(ax.get_ylim())
-    markers = _marker_boxes(ax, xs, ys, 60) + _polyline_boxes(
-        ax, xs[front][order], ys[front][order]
-    )
+    markers = marker_boxes(ax, xs, ys, 60) + polyline_boxes(ax, xs[front][order], ys[front][order])
     if d is not None:
-        markers += _marker_boxes(ax, xs[d : d + 1], ys[d : d + 1], 140)
+        markers += marker_boxes(ax, xs[d : d + 1], ys[d : d + 1], 140)
     avoid = [_threshold_line(ax, markers, fontsize)]
-    labelled = sorted(set(np.flatnonzero(front)) | ({d} if d is not None else set()))
+    labelled = sorted(set(np.flatnonzero(front)) | ({d} if d is not None else set()) | set(fitted))
     place_labels(
         ax,
         np.c_[xs[labelled], ys[labelled]],
@@ -427,42 +371,82 @@ def plot_pareto(
     return None
 
 
+PANELS = {
+    "cycles": "NMSE against unit cycles per frame",
+    "table_bits": "NMSE against ROM bits",
+    "lut": "NMSE against LUTs",
+    "hw_mpx_per_s": "NMSE against the hardware's Mpx/s",
+    "px_per_clock_parallel": "NMSE against pixels per clock",
+}
+
+
+def plot_axes(rows: list[dict]) -> list[str]:
+    """The x axes a run plots: cycles, table bits, LUTs (when synthesised) and throughput."""
+    has_lut = any(np.isfinite(float(r["lut"])) for r in rows)
+    return ["cycles", "table_bits", *(["lut"] if has_lut else []), throughput_axis(rows)]
+
+
 def plot_figure(rows: list[dict], path: Path) -> Path:
-    """Both fronts side by side, small, one legend below them (the README's committed
-    figure)."""
+    """Every front (``plot_axes``) in a grid of two columns, small, one legend below them (the
+    README's committed figure)."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4.4), dpi=80)
-    fig.subplots_adjust(left=0.07, right=0.99, bottom=0.27, top=0.93, wspace=0.18)
-    axes[0].set_title("NMSE against unit cycles per frame", fontsize=10)
-    axes[1].set_title("NMSE against ROM bits", fontsize=10)
-    plot_pareto(rows, "cycles", ax=axes[0], legend=False)
-    plot_pareto(rows, "table_bits", ax=axes[1], legend=False)
-    handles, labels = axes[0].get_legend_handles_labels()
-    fig.legend(handles, labels, loc="lower center", ncol=7, fontsize=7, frameon=False)
+    xs = plot_axes(rows)
+    n_rows = (len(xs) + 1) // 2
+    fig, axes = plt.subplots(n_rows, 2, figsize=(10, 0.6 + 3.8 * n_rows), dpi=80, squeeze=False)
+    bottom = 0.6 / (0.6 + 3.8 * n_rows) + 0.1 / n_rows
+    fig.subplots_adjust(left=0.07, right=0.99, bottom=bottom, top=1 - 0.08 / n_rows, hspace=0.3)
+    fig.subplots_adjust(wspace=0.18)
+    flat = list(axes.flat)
+    for x, ax in zip(xs, flat, strict=False):
+        ax.set_title(PANELS[x], fontsize=10)
+        plot_pareto(rows, x, ax=ax, legend=False)
+    for ax in flat[len(xs) :]:
+        ax.set_visible(False)
+    handles, labels = {}, {}
+    for ax in flat[: len(xs)]:
+        for h, lab in zip(*ax.get_legend_handles_labels(), strict=True):
+            handles.setdefault(lab, h)
+            labels[lab] = lab
+    fig.legend(list(handles.values()), list(labels), loc="lower center", ncol=7, fontsize=7)
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path)
     plt.close(fig)
     return path
 
 
+PLOT_FILES = {
+    "cycles": "pareto_cycles.png",
+    "table_bits": "pareto_bits.png",
+    "lut": "pareto_lut.png",
+    "hw_mpx_per_s": "pareto_throughput.png",
+    "px_per_clock_parallel": "pareto_throughput.png",
+}
+
+
 def write_outputs(
-    results: list[dict], out_dir: Path, figure_dir: Path | None = None
+    results: list[dict],
+    out_dir: Path,
+    figure_dir: Path | None = None,
+    refused: Sequence[str] = (),
 ) -> tuple[list[dict], list[Path]]:
-    """results.csv, results.md, pareto_cycles.png, pareto_bits.png (+ figure_dir's PNG)."""
+    """results.csv, results.md, pareto_cycles.png, pareto_bits.png, pareto_lut.png (when
+    synthesised), pareto_throughput.png (+ figure_dir's trade_pareto.png); ``refused``: the
+    scenes the configuration files refused, for results.md."""
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
+    results = [{"part": "none", **dict.fromkeys(HW_FIELDS[1:], np.nan), **r} for r in results]
     rows = aggregate(results)
     written = [write_csv(results, out_dir / "results.csv")]
     md = out_dir / "results.md"
-    md.write_text(format_markdown(rows))
+    md.write_text(format_markdown(rows, refused=refused))
     written.append(md)
     if rows:
-        written.append(plot_pareto(rows, "cycles", out_dir / "pareto_cycles.png"))
-        written.append(plot_pareto(rows, "table_bits", out_dir / "pareto_bits.png"))
+        for x in plot_axes(rows):
+            written.append(plot_pareto(rows, x, out_dir / PLOT_FILES[x]))
         if figure_dir is not None:
             written.append(plot_figure(rows, Path(figure_dir) / "trade_pareto.png"))
     return rows, written

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 from model.render import pipeline, scene, scenefile
 from model.units import divider, gouraud, specular
 
-CACHE_VERSION = 5
+CACHE_VERSION = 6
 """Part of every key: bump it when a figure's definition changes, so old cache files are unused."""
 DEFAULT_SIZE = 128
 K_SETS: dict[str, tuple[tuple[int, int, int], ...]] = {
@@ -45,6 +45,7 @@ KNOBS: tuple[str, ...] = (
     "p",
     "specular_mode",
     "highlight_levels",
+    "diffuse_mode",
 )
 
 FILE_KEY = re.compile(r"(?P<kind>mesh|scene):(?P<name>[^/\\]+)@(?P<sha1>[0-9a-f]{12})")
@@ -81,6 +82,7 @@ class TradePoint:
     p: int = gouraud.DEFAULT.p
     specular_mode: str = "unit"
     highlight_levels: float = 0.5
+    diffuse_mode: str = "gouraud"
 
     def __post_init__(self) -> None:
         if not FILE_KEY.fullmatch(self.scene):
@@ -91,15 +93,23 @@ class TradePoint:
                     f"{exc} or a file key 'mesh:<file name>@<sha1: 12 hex>' or "
                     "'scene:<file name>@<sha1: 12 hex>'"
                 ) from None
-        scene.check_choice("k_set", self.k_set, tuple(K_SETS))
+        self._check_k_set()
         # Canonical types, so that equal points have equal keys (1 and 1.0, numpy ints).
         for name in ("size", "rom_addr_bits", "rom_data_bits", "z_frac_bits", "recip_bits", "p"):
             object.__setattr__(self, name, int(getattr(self, name)))
         object.__setattr__(self, "highlight_levels", float(self.highlight_levels))
 
+    def _check_k_set(self) -> None:
+        scene.check_choice("k_set", self.k_set, tuple(K_SETS))
+
     @property
     def knobs(self) -> dict[str, object]:
         return {k: getattr(self, k) for k in KNOBS}
+
+    @property
+    def config_name(self) -> str:
+        """ "" for a configuration of the grid; a configuration file's label (``ConfigPoint``)."""
+        return ""
 
     @property
     def key(self) -> str:
@@ -156,6 +166,7 @@ class TradePoint:
             specular=spec,
             specular_mode=self.specular_mode,
             highlight_levels=self.highlight_levels,
+            diffuse_mode=self.diffuse_mode,
         )
 
 
@@ -170,6 +181,94 @@ def a_int_bits_for(k_ranges: tuple, alpha: str, a_frac_bits: int) -> int:
 
 
 DEFAULT_POINT = TradePoint()
+
+
+def _tuples(value: object) -> object:
+    """Lists (JSON, TOML) as tuples, the way the configurations hold them."""
+    return tuple(_tuples(v) for v in value) if isinstance(value, list | tuple) else value
+
+
+def config_from_dict(tables: Mapping[str, Mapping[str, object]]) -> pipeline.PipelineConfig:
+    """The ``PipelineConfig`` of ``configfile.config_dict(cfg)`` (its inverse)."""
+    units = {
+        "divider": divider.DividerConfig,
+        "gouraud": gouraud.GouraudConfig,
+        "specular": specular.SpecularConfig,
+    }
+    kwargs: dict[str, object] = {k: _tuples(v) for k, v in tables.get("pipeline", {}).items()}
+    for name, cls in units.items():
+        if name in tables:
+            kwargs[name] = cls(**{k: _tuples(v) for k, v in tables[name].items()})
+    return pipeline.PipelineConfig(**kwargs)
+
+
+@dataclass(frozen=True)
+class ConfigPoint(TradePoint):
+    """A configuration file's configuration (``--config FILE``, e.g. the ``config.toml`` of a
+    ``shading fit`` bundle) on one scene: labelled ``config_label`` (``fit:teapot``), keyed by
+    its content (``config_json``: the canonical JSON of ``configfile.config_dict``), so an
+    edited file is another configuration.  The knob fields say what the file sets where a knob
+    can (``k_set`` "custom" for a decoder map no grid k-set has); they are not what the point
+    runs: ``to_pipeline_config`` is the file's configuration, every field."""
+
+    config_label: str = ""
+    config_json: str = ""
+
+    @classmethod
+    def from_config(
+        cls, label: str, cfg: pipeline.PipelineConfig, scene_key: str, size: int = DEFAULT_SIZE
+    ) -> ConfigPoint:
+        from model.render import configfile
+
+        names = {v: k for k, v in K_SETS.items()}
+        s = cfg.specular
+        return cls(
+            scene=scene_key,
+            size=size,
+            rom_addr_bits=s.rom_addr_bits,
+            rom_data_bits=s.rom_data_bits,
+            z_frac_bits=s.z_frac_bits,
+            k_set=names.get(tuple(s.k_ranges), "custom"),
+            alpha=s.alpha,
+            recip_bits=cfg.divider.recip_bits,
+            p=cfg.gouraud.p,
+            specular_mode=cfg.specular_mode,
+            highlight_levels=cfg.highlight_levels,
+            diffuse_mode=cfg.diffuse_mode,
+            config_label=label,
+            config_json=json.dumps(configfile.config_dict(cfg), sort_keys=True),
+        )
+
+    def _check_k_set(self) -> None:
+        if self.k_set != "custom":
+            super()._check_k_set()
+        if not self.config_label or not self.config_json:
+            raise ValueError(
+                "config_label and config_json must be given: make a ConfigPoint with "
+                "ConfigPoint.from_config(label, cfg, scene)"
+            )
+
+    def __repr__(self) -> str:  # the file's JSON would make every message a page long
+        return f"ConfigPoint({self.config_label}, scene={self.scene!r}, size={self.size})"
+
+    @property
+    def config_name(self) -> str:
+        return self.config_label
+
+    @property
+    def config_key(self) -> str:
+        return _hash({"version": CACHE_VERSION, "config": json.loads(self.config_json)})
+
+    @property
+    def label(self) -> str:
+        return self.config_label
+
+    @property
+    def group(self) -> str:
+        return "fitted"
+
+    def to_pipeline_config(self) -> pipeline.PipelineConfig:
+        return config_from_dict(json.loads(self.config_json))
 
 
 # ================================================================================ the grid
@@ -205,10 +304,11 @@ SMALL_SWEEPS: tuple[Sweep, ...] = (
         base=(("specular_mode", "adaptive"),),
         title="adaptive highlight threshold (levels)",
     ),
+    Sweep("diffuse_mode", ("gouraud", "unit", "adaptive"), title="diffuse path"),
 )
 """One knob at a time around the default (each knob's effect isolated); the named alternatives
-(the prototype's cos^2, a single cos^16, {1, 2, 16}, inflection, Gouraud only, adaptive) are
-values of these sweeps."""
+(the prototype's cos^2, a single cos^16, {1, 2, 16}, inflection, Gouraud only, adaptive, the
+diffuse term through the specular unit) are values of these sweeps."""
 
 NAMED: dict[str, dict[str, object]] = {
     "free": {"alpha": "inflection", "specular_mode": "adaptive"},

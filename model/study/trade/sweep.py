@@ -84,7 +84,7 @@ def angle_drift(cfg: pipeline.PipelineConfig) -> float:
 
 def hardware(cfg: pipeline.PipelineConfig) -> dict[str, int]:
     """Adders, multipliers and multiplier partial-product bits (counting rule: module doc)."""
-    has_spec = cfg.specular_mode != "vertex"
+    has_spec = cfg.uses_specular_unit
     s = cfg.specular
     return {
         "adders": CHANNELS * (1 + gouraud.adder_counts(cfg.gouraud.p)["total"]) + int(has_spec),
@@ -114,14 +114,18 @@ def evaluate(
     cmp = metrics.compare(frame.rgb, ref.rgb, highlight=highlight)
     k = frame.stats.counters
     pixels = frame.stats.pixels_shaded
-    div_c, gou_c, spec_c = (
+    div_c, gou_c, spec_c, diff_c = (
         int(k.get("divider_cycles", 0)),
         int(k.get("gouraud_cycles", 0)),
         int(k.get("specular_cycles", 0)),
+        int(k.get("diffuse_cycles", 0)),
     )
-    cycles = div_c + gou_c + spec_c
-    frame_clocks = max(math.ceil(div_c / CHANNELS), math.ceil(gou_c / CHANNELS), spec_c)
-    if cfg.specular_mode == "vertex":
+    cycles = div_c + gou_c + spec_c + diff_c
+    # The diffuse jobs run on the one specular unit, after the highlight jobs.
+    frame_clocks = max(math.ceil(div_c / CHANNELS), math.ceil(gou_c / CHANNELS), spec_c + diff_c)
+    s = cfg.specular
+    if not cfg.uses_specular_unit or (s.n_first, s.n_last) != (1, specular.N_MAX):
+        # No unit, or one that keeps only some n (a fitted one): no figure over n = 1..1000.
         epi, epi_n, epi_lsb, unit_lsb = math.nan, 0, math.nan, math.nan
     else:
         epi, epi_n, epi_lsb, unit_lsb = epicentre_error(cfg.specular)
@@ -140,12 +144,14 @@ def evaluate(
         "epicentre_out_lsb": epi_lsb,
         "unit_error_lsb": unit_lsb,
         "line_drift_levels": line_drift(cfg),
-        "angle_drift_steps": angle_drift(cfg) if cfg.specular_mode != "vertex" else math.nan,
+        "angle_drift_steps": angle_drift(cfg) if cfg.uses_specular_unit else math.nan,
         "pixels_shaded": pixels,
         "divider_cycles": div_c,
         "gouraud_cycles": gou_c,
         "specular_cycles": spec_c,
         "specular_pixels": int(k.get("specular_pixels", 0)),
+        "diffuse_cycles": diff_c,
+        "diffuse_pixels": int(k.get("diffuse_pixels", 0)),
         "cycles": cycles,
         "frame_clocks": frame_clocks,
         "px_per_clock": pixels / max(cycles, 1),
@@ -180,6 +186,7 @@ RESULT_RANGES: dict[str, tuple[str, float, float, bool]] = {
         ("pixels_shaded", "divider_cycles", "gouraud_cycles", "specular_cycles"), _COUNT
     ),
     **dict.fromkeys(("specular_pixels", "cycles", "frame_clocks", "table_bits"), _COUNT),
+    **dict.fromkeys(("diffuse_cycles", "diffuse_pixels"), _COUNT),
     **dict.fromkeys(("adders", "multipliers", "mult_bits"), _COUNT),
     **dict.fromkeys(("px_per_clock", "px_per_clock_parallel", "shade_seconds"), _SIZE),
     "sw_pixels_per_second": _SIZE,

@@ -11,8 +11,8 @@ Formats (``SpecularConfig``, every value an integer in units of 2**-f):
 * angles ``dz``, ``z0`` and the accumulator (register 8) in units of pi/2, two's complement,
   ``z_frac_bits`` fraction bits; ``dz``/``z0`` are ``z_int_bits + z_frac_bits`` wide, the
   accumulator ``len_width`` bits wider, so ``z0 + l*dz`` cannot wrap for any register values;
-* ``a`` (ROM 9, one word per n = 0..1023): unsigned Q``a_int_bits``.``a_frac_bits``, 0 for
-  invalid n;
+* ``a`` (ROM 9, one word per kept n = ``n_first..n_last``, by default 1..1000, at address
+  n - n_first): unsigned Q``a_int_bits``.``a_frac_bits``; every other n gives n_err;
 * the scaled angle ``|zeta| * a`` (multiplier 11) is rounded to ``rom_addr_bits`` fraction bits:
   that is the ROM-12 address inside the table of the decoded k; a value that rounds to 1 (pi/2)
   or more gives cos^k = 0 (overflow detected, never wrapped);
@@ -65,6 +65,8 @@ from model.units.specular.config import (
     DEFAULT,
     FILL_LATENCY,
     INFLECTION,
+    KEPT,
+    KEPT_CONFIGS,
     MAX_TABLES,
     N_MAX,
     N_WIDTH,
@@ -96,6 +98,7 @@ from model.units.specular.roms import (
     decode_k_patent9,
     n_valid,
     read_rom,
+    rom9_image,
     rom9_words,
     rom12_words,
     rom_layout,
@@ -119,6 +122,8 @@ __all__ = [
     "DEFAULT",
     "FILL_LATENCY",
     "INFLECTION",
+    "KEPT",
+    "KEPT_CONFIGS",
     "MAX_TABLES",
     "NARROW",
     "N_MAX",
@@ -161,6 +166,7 @@ __all__ = [
     "mag_int_bits_for",
     "n_valid",
     "read_rom",
+    "rom9_image",
     "rom9_words",
     "rom12_path_kernel",
     "rom12_words",

@@ -102,23 +102,34 @@ def fixed_point_accuracy(cfg: SpecularConfig = DEFAULT) -> Accuracy:
 @functools.cache
 def _accuracy(cfg: SpecularConfig) -> Accuracy:
     t = tables(cfg)
-    ns = np.arange(1, N_MAX + 1, dtype=np.int64)
-    tsel = np.ascontiguousarray(t.tsel[1 : N_MAX + 1])
+    every = np.arange(1, N_MAX + 1, dtype=np.int64)
+    ks_every = np.asarray(cfg.ks, dtype=np.int64)[t.tsel[1 : N_MAX + 1]]
+    float_rel = np.array(
+        [
+            brdf_max_rel_error(n, k, cfg.alpha, REL_FLOOR)
+            for n, k in zip(every.tolist(), ks_every.tolist(), strict=True)
+        ]
+    )
+    # Only the kept n (n_first..n_last): the unit refuses every other n (n_err, pixels 0), so
+    # the per-n figures of a dropped n are 0 and it reaches no worst case.
+    lo, hi = cfg.n_first, cfg.n_last
+    ns = np.arange(lo, hi + 1, dtype=np.int64)
+    tsel = np.ascontiguousarray(t.tsel[lo : hi + 1])
     ks = np.asarray(cfg.ks, dtype=np.int64)[tsel]
     pairs = list(zip(ns.tolist(), ks.tolist(), strict=True))
     a_float = np.array([alpha_value(n, k, cfg.alpha) for n, k in pairs])
-    float_rel = np.array([brdf_max_rel_error(n, k, cfg.alpha, REL_FLOOR) for n, k in pairs])
     size = 1 << cfg.rom_addr_bits
     shape = (2, cfg.num_tables, size + 1)
     f_min, f_max = np.full(shape, np.inf), np.full(shape, -np.inf)
     f_n, f_z = np.zeros((2, *shape), dtype=np.int64), np.zeros((2, *shape), dtype=np.int64)
     per_n = np.zeros((3, N_MAX))
     per_z = np.zeros((3, N_MAX), dtype=np.int64)
+    kept_n, kept_z = per_n[:, lo - 1 : hi], per_z[:, lo - 1 : hi]  # views: the kernel fills them
     c_full = cfg.out_max << cfg.c_frac_bits
     _exhaustive_angles(
-        ns, ks, a_float, np.ascontiguousarray(t.rom9[1 : N_MAX + 1]), tsel, t.rom12,
+        ns, ks, a_float, np.ascontiguousarray(t.rom9[lo : hi + 1]), tsel, t.rom12,
         cfg.rom_addr_bits, cfg.addr_shift, cfg.z_frac_bits, cfg.rom_data_bits, c_full,
-        cfg.c_frac_bits, cfg.out_max, REL_FLOOR, per_n, per_z, f_min, f_max, f_n, f_z,
+        cfg.c_frac_bits, cfg.out_max, REL_FLOOR, kept_n, kept_z, f_min, f_max, f_n, f_z,
     )  # fmt: skip
     words = np.zeros((cfg.num_tables, size + 1), dtype=np.int64)
     for j in range(cfg.num_tables):

@@ -5,15 +5,16 @@ Owns the unit's constants (``N_WIDTH``, ``N_MAX``, ``FILL_LATENCY``, the k range
 scale ``alpha_value`` and ``epicentre`` it is derived from, ``SpecularConfig`` with its derived
 widths and RTL parameters, ``a_words`` (ROM 9's contents: ``mag_int_bits`` needs its smallest
 word), ``rom_path`` (``hdl_parameters`` names the ROM files) and ``DEFAULT``, ``PROTOTYPE``,
-``INFLECTION``, ``NARROW``, ``UP5K``, ``ROM_CONFIGS``.  May import numpy and
-``model.units.fixed`` and ``rom`` only: every other module of the package builds on this one.
+``INFLECTION``, ``NARROW``, ``KEPT``, ``UP5K``, ``ROM_CONFIGS``, ``KEPT_CONFIGS``.  May import
+numpy and ``model.units.fixed`` and ``rom`` only: every other module of the package builds on
+this one.
 """
 
 from __future__ import annotations
 
 import functools
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -62,11 +63,17 @@ def _n_k_pairs(ranges) -> list[tuple[int, int]]:
 
 
 # ==================================================================== configuration
+def _kept_pairs(cfg: SpecularConfig) -> list[tuple[int, int]]:
+    """(n, k) of every n the unit keeps (n_first..n_last)."""
+    return [(n, k) for n, k in _n_k_pairs(cfg.k_ranges) if cfg.n_first <= n <= cfg.n_last]
+
+
 def a_words(cfg: SpecularConfig) -> np.ndarray:
-    """ROM 9's words: round(alpha_value(n, k) * 2**a_frac_bits) for n = 0..1023, 0 for invalid n
+    """round(alpha_value(n, k) * 2**a_frac_bits) indexed by the 10-bit n, 0 for every n the unit
+    refuses (0, n < n_first, n > n_last, > 1000); ROM 9 holds words n_first..n_last of it
     (``roms.rom9_words`` is the public call; this one also serves ``mag_int_bits_for``)."""
     words = np.zeros(1 << N_WIDTH, dtype=np.int64)
-    for n, k in _n_k_pairs(cfg.k_ranges):
+    for n, k in _kept_pairs(cfg):
         words[n] = math.floor(alpha_value(n, k, cfg.alpha) * 2**cfg.a_frac_bits + 0.5)
     return words
 
@@ -101,6 +108,8 @@ class SpecularConfig:
     out_width: int = 8  # output intensity bits
     k_ranges: tuple[tuple[int, int, int], ...] = field(default=PATENT_K_RANGES)
     alpha: str = "taylor"  # "taylor": a = sqrt(n/k); "inflection": exact at the inflection point
+    n_first: int = 1  # the kept range of n: ROM 9 holds a for n_first..n_last only, every
+    n_last: int = N_MAX  # other n gives what an invalid n gives (zeros, n_err = 1)
 
     def __post_init__(self) -> None:
         fixed.check_width("c_int_bits", self.c_int_bits, 1, 16)
@@ -121,6 +130,13 @@ class SpecularConfig:
             raise ValueError(
                 f"alpha = {self.alpha!r} is out of range: legal modes are {ALPHA_MODES}"
             )
+        for name, lo in (("n_first", 1), ("n_last", self.n_first)):
+            value = getattr(self, name)
+            if not isinstance(value, int | np.integer) or not lo <= value <= N_MAX:
+                first = " (n_first..1000)" if name == "n_last" else ""
+                raise ValueError(
+                    f"{name} = {value!r} is out of range: legal is {lo}..{N_MAX}{first}"
+                )
         if self.addr_shift < 1:
             raise ValueError(
                 f"z_frac_bits + a_frac_bits = {self.z_frac_bits + self.a_frac_bits} is out of "
@@ -135,7 +151,7 @@ class SpecularConfig:
                 raise ValueError(
                     f"{name} = {width} is out of range: at most {fixed.MAX_KERNEL_WIDTH} bits"
                 )
-        a_max = max(alpha_value(n, k, self.alpha) for n, k in _n_k_pairs(ranges))
+        a_max = max(alpha_value(n, k, self.alpha) for n, k in _kept_pairs(self))
         if round(a_max * 2**self.a_frac_bits) >= 1 << self.a_width:
             raise ValueError(_a_width_message(a_max, self.a_int_bits, self.a_frac_bits))
 
@@ -178,9 +194,14 @@ class SpecularConfig:
         return len(self.k_ranges)
 
     @property
+    def rom9_depth(self) -> int:
+        """ROM 9's words: one per kept n (n_first..n_last), at address n - n_first."""
+        return self.n_last - self.n_first + 1
+
+    @property
     def rom9_bits(self) -> int:
-        """ROM 9: one a word for every 10-bit n."""
-        return (1 << N_WIDTH) * self.a_width
+        """ROM 9: one a word for every kept n."""
+        return self.rom9_depth * self.a_width
 
     @property
     def rom12_bits(self) -> int:
@@ -213,9 +234,13 @@ class SpecularConfig:
     def mag_int_bits(self) -> int:
         """Integer bits |zeta| is saturated to before multiplier 11.
 
-        The smallest M such that the clamped value times the smallest a of any valid n still
-        reaches pi/2 (cos^k = 0): clamping then never changes a result, it only narrows the
-        multiplier.  Capped at the accumulator's own integer bits.
+        The smallest M such that the clamped value times the smallest a of any kept n
+        (n_first..n_last) still reaches pi/2 (cos^k = 0): clamping then never changes a result,
+        it only narrows the multiplier.  Capped at the accumulator's own integer bits.  Only the
+        kept range counts: a dropped n never reaches multiplier 11 with a result (its pixels are
+        gated to 0), so a range without the small n (a grows with n) narrows the multiplier;
+        the RTL's ``a_extreme`` scans the same range, and the largest a (``a_int_bits``'s check)
+        is also taken over the kept range.
         """
         return mag_int_bits_for(self)
 
@@ -236,7 +261,11 @@ class SpecularConfig:
 
     @property
     def a_rom_name(self) -> str:
-        return f"specular_a_{self.alpha}_{self.rom_tag}_q{self.a_int_bits}.{self.a_frac_bits}.hex"
+        kept = f"_keep{self.n_first}-{self.n_last}" if self.rom9_depth < N_MAX else ""
+        return (
+            f"specular_a_{self.alpha}_{self.rom_tag}_q{self.a_int_bits}.{self.a_frac_bits}"
+            f"{kept}.hex"
+        )
 
     @property
     def cos_rom_name(self) -> str:
@@ -269,6 +298,8 @@ class SpecularConfig:
             "K3": ks[3],
             "ALPHA": self.alpha,
             "MAG_INT_BITS": self.mag_int_bits,
+            "N_FIRST": self.n_first,
+            "N_LAST": self.n_last,
             "A_ROM_FILE": str(rom_path(self, "a")),
             "COS_ROM_FILE": str(rom_path(self, "cos")),
         }
@@ -325,7 +356,7 @@ def _a_width_message(a_max: float, int_bits: int, frac_bits: int) -> str:
 def mag_int_bits_for(cfg: SpecularConfig) -> int:
     """``SpecularConfig.mag_int_bits`` of ``cfg`` (cached per configuration; needs only the
     k ranges and formats, so it also answers for a configuration built without its checks)."""
-    a_min = int(a_words(cfg)[1 : N_MAX + 1].min())
+    a_min = int(a_words(cfg)[cfg.n_first : cfg.n_last + 1].min())
     one = 1 << (cfg.z_frac_bits + cfg.a_frac_bits)
     cap = cfg.z_int_bits + cfg.len_width - 1
     m = 0
@@ -350,6 +381,9 @@ NARROW = SpecularConfig(
     out_width=6,
 )
 """A narrow unit (lines up to 127 intervals, 6-bit output, 256-entry tables) for the benches."""
+KEPT = replace(NARROW, n_first=17, n_last=40)
+"""NARROW keeping n = 17..40 only (24 ROM-9 words) for the bench of the kept range: the
+smallest kept a is sqrt(17/16) > 1, so ``mag_int_bits`` is 0 (NARROW's is 1)."""
 UP5K = SpecularConfig(rom_addr_bits=11, rom_data_bits=12)
 """The patent's four tables, 2^11 x 12 bits each, so that ROM 9 and ROM 12 fit the 30 block RAMs
 (RAM40, 4 kbit) of a Lattice iCE40 UP5K (docs/specular.md, "Fitting an iCE40 UP5K")."""
@@ -362,6 +396,10 @@ ROM_CONFIGS: dict[str, SpecularConfig] = {
     "inflection": INFLECTION,
     "up5k": UP5K,
 }
+KEPT_CONFIGS: dict[str, SpecularConfig] = {"kept": KEPT}
+"""Configurations that keep only a range of n: their images are committed too (``make roms``)
+and the bench runs them, but they are not in ``ROM_CONFIGS``, whose accuracy walk and tables
+cover every n = 1..1000."""
 
 
 def rom_path(cfg: SpecularConfig = DEFAULT, which: str = "a") -> Path:

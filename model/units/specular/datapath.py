@@ -14,7 +14,7 @@ import numpy as np
 from numba import njit
 
 from model.units import batch, fixed
-from model.units.specular.config import DEFAULT, FILL_LATENCY, N_MAX, N_WIDTH, SpecularConfig
+from model.units.specular.config import DEFAULT, FILL_LATENCY, N_WIDTH, SpecularConfig
 from model.units.specular.roms import n_valid, tables
 
 
@@ -108,23 +108,25 @@ def shade_line(c, dz, z0, n, length, cfg: SpecularConfig = DEFAULT) -> np.ndarra
     """The l+1 output intensities of one line, bit-exact with ``rtl/specular_unit.v``.
 
     ``c``: C register (unsigned, ``c_frac_bits`` fraction bits, in output LSBs); ``dz``, ``z0``:
-    angle registers (signed, units of pi/2 * 2**-z_frac_bits); ``n``: 1..1000; ``length``: the
-    number of intervals l (0..2**len_width - 1).  Raises ``ValueError`` for anything outside.
+    angle registers (signed, units of pi/2 * 2**-z_frac_bits); ``n``: 1..1000 (the kept range
+    ``n_first..n_last``); ``length``: the number of intervals l (0..2**len_width - 1).  Raises
+    ``ValueError`` for anything outside.
     """
     c_i, dz_i, z0_i, len_i = _check_line(c, dz, z0, length, cfg)
-    n_i = int(fixed.check_operand("n", n, 1, N_MAX))
+    n_i = int(fixed.check_operand("n", n, cfg.n_first, cfg.n_last))
     return _run_line(c_i, dz_i, z0_i, n_i, len_i, cfg)
 
 
 def unit_line(c, dz, z0, n, length, cfg: SpecularConfig = DEFAULT) -> tuple[np.ndarray, int]:
     """What the RTL does for any 10-bit n: (intensities, n_err).
 
-    For n = 1..1000 this is ``(shade_line(...), 0)``; for n = 0 and n = 1001..1023 the line has
-    the same l+1 results at the same cycles, every one 0 with ``n_err`` = 1.
+    For n = n_first..n_last (by default 1..1000) this is ``(shade_line(...), 0)``; for every
+    other n (0, 1001..1023 and the n outside the kept range) the line has the same l+1 results
+    at the same cycles, every one 0 with ``n_err`` = 1.
     """
     c_i, dz_i, z0_i, len_i = _check_line(c, dz, z0, length, cfg)
     n_i = int(fixed.check_operand("n", n, 0, (1 << N_WIDTH) - 1))
-    if not n_valid(n_i):
+    if not n_valid(n_i, cfg):
         return np.zeros(len_i + 1, dtype=np.int64), 1
     return _run_line(c_i, dz_i, z0_i, n_i, len_i, cfg), 0
 
@@ -196,7 +198,7 @@ def shade_lines(
     dz_a = fixed.check_operand("dz", dz, z_lo, z_hi, rows=True)
     z0_a = fixed.check_operand("z0", z0, z_lo, z_hi, rows=True)
     len_a = fixed.check_operand("length", length, 0, cfg.len_max, rows=True)
-    n_a = fixed.check_operand("n", n, 1, N_MAX, rows=True)
+    n_a = fixed.check_operand("n", n, cfg.n_first, cfg.n_last, rows=True)
     pixels, starts, offsets = batch.place_lines(len_a + 1, out, at, None)
     t = tables(cfg)
     _lines_kernel(c_a, dz_a, z0_a, n_a, len_a, starts, t.rom9, t.tsel, *t.pixel_args, pixels)

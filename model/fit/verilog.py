@@ -1,0 +1,177 @@
+# SPDX-License-Identifier: Apache-2.0
+"""The fitted design as Verilog: the units at their fitted parameters behind a range guard.
+
+Owns ``fit_top`` (the text of ``shading_fit_top.v``), ``rom_images`` (the ROM images the fitted
+units read, by file name) and ``fit_core`` (a FuseSoC core of the bundle).
+
+``shading_fit_top`` instantiates the divider, the Gouraud unit and (where the design uses it) the
+specular unit with the fitted parameters; every unit port appears on the top level with the
+unit's prefix (``div_``, ``gou_``, ``spec_``), except the length inputs, which keep the default
+design's width (11 bits) so that a host written for the default units can drive it.  The guard:
+``range_err`` rises (and stays up until reset) on the edge after a length is written that the
+fitted counters cannot hold, or, on the specular unit, an n outside the kept range (the unit's
+own ``n_err`` then marks the line as well).  The written value is then not the one the unit got:
+nothing after it is to be trusted until reset, and the flag says so instead of a wrong pixel.
+ROM images are read from ``SHADING_FIT_ROM_DIR`` (default ``"rom/"``, relative to the
+simulator's or Yosys's working folder).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from model.hw import params as hw_params
+from model.hw import wrapper
+from model.render import pipeline
+from model.units import divider, gouraud, specular
+
+TOP = "shading_fit_top"
+PREFIX = {"divider": "div_", "gouraud": "gou_", "specular": "spec_"}
+MODULE = {"divider": "divider_shift", "gouraud": "gouraud_segment", "specular": "specular_unit"}
+# the length input of each unit, and the largest value the default design takes there
+LENGTH_PORT = {
+    "divider": ("k_in", "k_we", divider.DEFAULT.k_width),
+    "gouraud": ("len_in", "len_we", gouraud.DEFAULT.len_width),
+    "specular": ("len_in", "len_we", specular.DEFAULT.len_width),
+}
+RTL_DIR = Path(__file__).resolve().parents[2] / "rtl"
+
+
+def unit_params(cfg: pipeline.PipelineConfig, unit: str) -> dict[str, object]:
+    """The unit's Verilog parameters, ROM files by name only."""
+    params = hw_params.unit_parameters(getattr(cfg, unit))
+    return {k: (Path(str(v)).name if k.endswith("ROM_FILE") else v) for k, v in params.items()}
+
+
+def rom_images(cfg: pipeline.PipelineConfig, units: tuple[str, ...]) -> dict[str, str]:
+    """{file name: image text} of every ROM the design's units read."""
+    images = {}
+    for unit in units:
+        for name, value in unit_params(cfg, unit).items():
+            if not name.endswith("ROM_FILE"):
+                continue
+            if unit == "divider":
+                images[str(value)] = divider.rom_text(cfg.divider)
+            else:
+                which = "a" if name.startswith("A_") else "cos"
+                images[str(value)] = specular.rom_text(cfg.specular, which)
+    return images
+
+
+def _param_value(name: str, value: object) -> str:
+    if name.endswith("ROM_FILE"):
+        return f'{{`SHADING_FIT_ROM_DIR, "{value}"}}'
+    if isinstance(value, str):
+        return f'"{value}"'
+    return str(int(value))
+
+
+def fit_top(cfg: pipeline.PipelineConfig, units: tuple[str, ...], note: str = "") -> str:
+    """The Verilog-2005 text of ``shading_fit_top`` (module docstring)."""
+    decls: list[str] = ["    input  wire clk", "    input  wire rst_n"]
+    body: list[str] = []
+    guards: list[str] = []
+    for unit in units:
+        pre = PREFIX[unit]
+        params = unit_params(cfg, unit)
+        found = wrapper.ports(RTL_DIR / f"{MODULE[unit]}.v", MODULE[unit], params)
+        length, strobe, wide = LENGTH_PORT[unit]
+        conns = []
+        for p in found:
+            if p.name in ("clk", "rst_n"):
+                conns.append(f"        .{p.name}({p.name})")
+                continue
+            width = wide if p.name == length else p.width
+            rng = f"[{width - 1}:0] " if width > 1 else ""
+            decls.append(f"    {p.direction:<6} wire {rng}{pre}{p.name}")
+            if p.name == length:
+                conns.append(f"        .{p.name}({pre}{p.name}[{p.width - 1}:0])")
+                if wide > p.width:
+                    guards.append(f"({pre}{strobe} && |{pre}{length}[{wide - 1}:{p.width}])")
+            else:
+                conns.append(f"        .{p.name}({pre}{p.name})")
+        plist = ",\n".join(f"        .{k}({_param_value(k, v)})" for k, v in params.items())
+        body.append(
+            f"{MODULE[unit]} #(\n{plist}\n    ) u_{unit} (\n" + ",\n".join(conns) + "\n    );\n"
+        )
+    if "specular" in units:
+        s = cfg.specular
+        lo, hi = s.n_first, s.n_last
+        guards.append(f"(spec_n_we && (spec_n_in < 10'd{lo} || spec_n_in > 10'd{hi}))")
+    decls.append("    output wire range_err")
+    guard = " ||\n                 ".join(guards) or "1'b0"
+    head = "\n".join(f"// {line}" if line else "//" for line in note.splitlines())
+    return f"""// SPDX-License-Identifier: Apache-2.0
+// Generated by `shading fit` (model/fit/verilog.py; docs/fit.md): do not edit.
+{head}
+`ifndef SHADING_FIT_ROM_DIR
+`define SHADING_FIT_ROM_DIR "rom/"
+`endif
+`resetall
+`timescale 1ns / 1ps
+`default_nettype none
+
+module {TOP} (
+{("," + chr(10)).join(decls)}
+);
+
+// The range guard: a length the fitted counters cannot hold, or an n outside the kept range.
+wire range_bad = {guard};
+reg  range_err_reg;
+assign range_err = range_err_reg;
+always @(posedge clk) begin
+    if (!rst_n) begin
+        range_err_reg <= 1'b0;
+    end else if (range_bad) begin
+        range_err_reg <= 1'b1;
+    end
+end
+
+{(chr(10)).join(body)}
+endmodule
+
+`resetall
+"""
+
+
+def fit_core(name: str, units: tuple[str, ...], roms: list[str]) -> str:
+    """A FuseSoC CAPI2 core of the bundle: the units' RTL (copied beside it) and the ROMs."""
+    rtl = "\n".join(f"      - rtl/{MODULE[u]}.v" for u in units)
+    rom_lines = "\n".join(f"      - rom/{r}: {{copyto: rom/{r}}}" for r in roms)
+    return f"""CAPI=2:
+# SPDX-License-Identifier: Apache-2.0
+# Generated by `shading fit` (docs/fit.md):
+#   fusesoc --cores-root . run --build-root build --target lint shading:fit:{name}
+#   fusesoc --cores-root . run --build-root build --target synth shading:fit:{name}
+name: shading:fit:{name}:0.1
+description: "The units fitted to the scene {name} (report.md)"
+
+filesets:
+  rtl:
+    files:
+{rtl}
+      - {TOP}.v
+    file_type: verilogSource
+  rom:
+    files:
+{rom_lines}
+    file_type: user
+
+targets:
+  default: &default
+    filesets: [rtl, rom]
+    toplevel: {TOP}
+  lint:
+    <<: *default
+    default_tool: verilator
+    tools:
+      verilator:
+        mode: lint-only
+        verilator_options: [-Wall]
+  synth:
+    <<: *default
+    default_tool: yosys
+    tools:
+      yosys:
+        arch: ice40
+"""

@@ -1,0 +1,34 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Write a recorded fit (``make fit``: docs/fit_teapot.json) into docs/fit.md's generated block.
+
+python scripts/fit_docs.py docs/fit_teapot.json docs/fit.md
+"""
+
+from __future__ import annotations
+
+import json
+import re
+import sys
+from pathlib import Path
+
+from model.fit import run
+
+
+def main(record_path: str, page_path: str) -> int:
+    record = json.loads(Path(record_path).read_text())
+    page = Path(page_path)
+    text = page.read_text()
+    pattern = re.compile(
+        re.escape(run.DOCS_BEGIN.split("{record}")[0]) + r".*?" + re.escape(run.DOCS_END), re.S
+    )
+    if not pattern.search(text):
+        print(f"{page}: no generated block ({run.DOCS_END}) to replace", file=sys.stderr)
+        return 1
+    block = run.docs_block(record, record_path)
+    page.write_text(pattern.sub(lambda _: block, text, count=1))
+    print(f"wrote the record {record_path} into {page}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(*sys.argv[1:]))
