@@ -50,6 +50,17 @@ class CosimResult:
     def pixels_per_second(self) -> float:
         return self.pixels / max(sum(self.seconds.values()), 1e-9)
 
+    def sim_record(self, unit: str, test: str) -> dict:
+        """The counts ``make sim``'s summary adds up (tests/conftest.py ``record_sim``)."""
+        return {
+            "unit": unit,
+            "test": test,
+            "jobs": sum(self.jobs.values()),
+            "compared": sum(self.results.values()),
+            "errors": 0,
+            "cycles": sum(self.cycles.values()),
+        }
+
 
 @dataclass
 class _ObjectJobs:

@@ -7,6 +7,7 @@ cache), an unreachable target said plainly, and the fitted top level's range gua
 from __future__ import annotations
 
 import dataclasses
+import json
 import os
 import re
 import shutil
@@ -17,11 +18,12 @@ from pathlib import Path
 import pytest
 
 from model.cli import main
-from model.fit import analyse, parallel, run, search, verilog
+from model.fit import analyse, cost, parallel, run, search, verilog
 from model.hw import wrapper
 from model.render import configfile, meshes, pipeline, raster, reference, scenefile, shade
 from model.study import metrics
 from model.units import specular
+from tests.conftest import record_sim
 
 SIZE = 48
 
@@ -135,6 +137,12 @@ def test_unreachable_target_is_said_plainly(tmp_path: Path, capsys) -> None:
         (["--lanes", "3"], "argument --lanes: invalid choice: 3"),
         (["--part", "vu9p"], "argument --part: invalid choice: 'vu9p'"),
         (["--max-error", "300"], "target max_error = 300.0 is out of range: legal is 0..255"),
+        (["--min-fmax", "-5"], "argument --min-fmax: -5 is not allowed: must be a number > 0"),
+        (
+            ["--min-fmax", "100", "--no-synth"],
+            "argument --min-fmax: 100 is not allowed with --no-synth: an Fmax comes from synthesis",
+        ),
+        (["--workers", "0"], "argument --workers: 0 is not allowed: must be an integer >= 1"),
     ],
 )
 def test_bad_arguments_are_refused(args: list[str], message: str, capsys) -> None:
@@ -312,18 +320,9 @@ def test_fitted_rtl_equals_the_model_byte_for_byte(sphere_fit, request) -> None:
     assert result.pixels == found.needs.pixels
     assert result.results["divider_shift"] == result.jobs["divider_shift"] > 100
     assert result.results["gouraud_segment"] >= 3 * found.needs.spans
-    request.node.user_properties.append(
-        (
-            "sim",
-            {
-                "unit": "fitted design co-simulation (image equal byte for byte)",
-                "test": "fit_cosim",
-                "jobs": sum(result.jobs.values()),
-                "compared": sum(result.results.values()),
-                "errors": 0,
-                "cycles": sum(result.cycles.values()),
-            },
-        )
+    record_sim(
+        request,
+        [result.sim_record("fitted design co-simulation (image equal byte for byte)", "fit_cosim")],
     )
 
 
@@ -365,13 +364,18 @@ def test_too_coarse_mesh_is_said_plainly(tmp_path: Path) -> None:
     assert len([s for s in found.result.steps if s.startswith("mode ")]) == len(search.modes())
 
 
-def test_bundle_core_lints_under_fusesoc(sphere_fit, tmp_path: Path) -> None:
+def test_bundle_core_lints_and_synthesises_under_fusesoc(sphere_fit, tmp_path: Path) -> None:
+    """The bundle's FuseSoC core: listed, its lint target (Verilator -Wall) clean, its synth
+    target (Yosys for iCE40, through the repository's Tcl shim as for the unit cores) a netlist
+    of iCE40 cells."""
+    from tests.test_fusesoc import shim_path
+
     _, out = sphere_fit
     exe = shutil.which("fusesoc", path=str(Path(sys.executable).parent)) or shutil.which("fusesoc")
     assert exe, "fusesoc is not installed: pip install -e '.[dev]' (make setup)"
-    env = {**os.environ, "PATH": f"{Path(sys.executable).parent}:{os.environ['PATH']}"}
 
-    def fusesoc(*args: str) -> subprocess.CompletedProcess:
+    def fusesoc(*args: str, path: str | None = None) -> subprocess.CompletedProcess:
+        env = {**os.environ, "PATH": path or f"{Path(sys.executable).parent}:{os.environ['PATH']}"}
         return subprocess.run(
             [exe, "--cores-root", str(out), *args],
             capture_output=True, text=True, cwd=tmp_path, env=env, timeout=300,
@@ -379,9 +383,15 @@ def test_bundle_core_lints_under_fusesoc(sphere_fit, tmp_path: Path) -> None:
 
     listed = fusesoc("core", "list")
     assert listed.returncode == 0 and "shading:fit:sphere" in listed.stdout, listed.stderr
-    lint = fusesoc("run", "--build-root", str(tmp_path / "build"), "--target", "lint",
-                   "shading:fit:sphere")  # fmt: skip
-    assert lint.returncode == 0, lint.stdout[-2000:] + lint.stderr[-2000:]
+    build = tmp_path / "build"
+    for target, path in (("lint", None), ("synth", shim_path(tmp_path))):
+        ran = fusesoc("run", "--build-root", str(build), "--target", target, "shading:fit:sphere",
+                      path=path)  # fmt: skip
+        assert ran.returncode == 0, f"{target}:\n{ran.stdout[-2000:]}{ran.stderr[-2000:]}"
+    work = build / "shading_fit_sphere_0.1" / "synth-yosys"
+    netlist = json.loads((work / "shading_fit_sphere_0.1.json").read_text())
+    cells = {c["type"] for m in netlist["modules"].values() for c in m["cells"].values()}
+    assert "SB_LUT4" in cells and verilog.TOP in netlist["modules"], sorted(netlist["modules"])
 
 
 def test_descents_on_dask_find_the_same_designs(sphere_fit, tmp_path: Path) -> None:
@@ -402,3 +412,34 @@ def test_descents_on_dask_find_the_same_designs(sphere_fit, tmp_path: Path) -> N
     again = search.Evaluator(frame_raster, "dask", tmp_path / "cache.json")
     search.search_candidates(again, found.needs, search.Target())
     assert again.renders == 0
+
+
+def test_candidates_are_placed_and_routed_and_the_fmax_floor_holds(
+    tmp_path: Path, monkeypatch
+) -> None:
+    """With synthesis, every candidate is placed and routed on the first part and the cheapest
+    reaching ``min_mhz`` is kept; a floor no candidate reaches is said plainly."""
+    monkeypatch.setenv("SYNTH_CACHE", str(tmp_path / "synth"))
+    source = scenefile.SceneSource("builtin", "sphere")
+
+    def fit(min_mhz: float, out: str) -> run.FitReport:
+        return run.fit(
+            source,
+            32,
+            tmp_path / out,
+            parts=("up5k",),
+            compare_default=False,
+            min_mhz=min_mhz,
+            cache_dir=tmp_path / "cache",
+            say=lambda _: None,
+        )
+
+    low = fit(1.0, "low")
+    assert len(low.candidates) >= 2 and low.fmax_met
+    shares = {c.policy: cost.part_share(r, "up5k") for c, r in low.candidates}
+    assert shares[low.result.policy] == min(shares.values())
+    assert low.costs["up5k"].key in {r.key for _, r in low.candidates}  # the same design
+    high = fit(1000.0, "high")
+    assert not high.fmax_met and high.result.met
+    text = (tmp_path / "high" / "report.md").read_text()
+    assert "NO candidate reaches 1000 MHz on up5k: the cheapest is kept, and the fit fails" in text

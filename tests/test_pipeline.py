@@ -89,21 +89,25 @@ def test_hybrid_is_visually_identical_to_exact_blinn(name: str) -> None:
     assert metrics.nmse(gouraud_only, ref) > metrics.nmse(hybrid, ref)
 
 
+def assert_split(adaptive, flags, on, off) -> None:
+    """``adaptive``'s pixels equal ``on``'s on the triangles ``flags`` marks and ``off``'s on the
+    others (each side non-empty)."""
+    tri = adaptive.tri_id
+    covered = tri >= 0
+    flagged = covered & flags[np.where(covered, tri, 0)]
+    unflagged = covered & ~flagged
+    assert flagged.sum() > 0 and unflagged.sum() > 0
+    np.testing.assert_array_equal(adaptive.rgb[flagged], on.rgb[flagged])
+    np.testing.assert_array_equal(adaptive.rgb[unflagged], off.rgb[unflagged])
+
+
 def test_adaptive_equals_hybrid_on_flagged_triangles_and_gouraud_elsewhere(sphere_raster) -> None:
     r = sphere_raster
     frames = {
         m: shade(r, pipeline.unit_shader(METHODS[m])) for m in ("hybrid", "gouraud", "adaptive")
     }
     flags = reference.object_highlight_flags(r.scene, obj=0, levels=0.5)
-    tri = frames["adaptive"].tri_id
-    covered = tri >= 0
-    flagged = covered & flags[np.where(covered, tri, 0)]
-    unflagged = covered & ~flagged
-    assert flagged.sum() > 0 and unflagged.sum() > 0
-    np.testing.assert_array_equal(frames["adaptive"].rgb[flagged], frames["hybrid"].rgb[flagged])
-    np.testing.assert_array_equal(
-        frames["adaptive"].rgb[unflagged], frames["gouraud"].rgb[unflagged]
-    )
+    assert_split(frames["adaptive"], flags, frames["hybrid"], frames["gouraud"])
     counters = {m: f.stats.counters for m, f in frames.items()}
     assert counters["gouraud"]["specular_jobs"] == 0
     assert 0 < counters["adaptive"]["specular_jobs"] < counters["hybrid"]["specular_jobs"]
@@ -270,15 +274,7 @@ def test_adaptive_diffuse_is_the_unit_on_flagged_triangles_and_gouraud_elsewhere
                           ("adaptive", adaptive))
     }  # fmt: skip
     flags = reference.object_diffuse_flags(r.scene, 0, adaptive.diffuse_spread_deg)
-    tri = frames["adaptive"].tri_id
-    covered = tri >= 0
-    flagged = covered & flags[np.where(covered, tri, 0)]
-    unflagged = covered & ~flagged
-    assert flagged.sum() > 0 and unflagged.sum() > 0
-    np.testing.assert_array_equal(frames["adaptive"].rgb[flagged], frames["diffuse"].rgb[flagged])
-    np.testing.assert_array_equal(
-        frames["adaptive"].rgb[unflagged], frames["hybrid"].rgb[unflagged]
-    )
+    assert_split(frames["adaptive"], flags, frames["diffuse"], frames["hybrid"])
     jobs = {n: f.stats.counters["diffuse_jobs"] for n, f in frames.items()}
     assert jobs["hybrid"] == 0 < jobs["adaptive"] < jobs["diffuse"]
 

@@ -9,6 +9,7 @@ import pytest
 from model.render import raster, reference, scenefile
 from model.render.shade import render
 from sim.scene_cosim import cosimulate
+from tests.conftest import record_sim
 
 pytestmark = pytest.mark.sim
 
@@ -27,18 +28,13 @@ def test_rtl_scene_equals_model_scene_byte_for_byte(request) -> None:
     # The scene has a visible highlight: the reference specular term passes a quarter of full scale.
     ref = render(scenefile.builtin_scene("sphere", 64, 64), reference.exact_blinn)
     assert ref.specular is not None and ref.specular.max() > 64
-    request.node.user_properties.append(
-        (
-            "sim",
-            {
-                "unit": "scene co-simulation (3 RTL units, image equal byte for byte)",
-                "test": "scene_cosim",
-                "jobs": sum(result.jobs.values()),
-                "compared": sum(result.results.values()),
-                "errors": 0,
-                "cycles": sum(result.cycles.values()),
-            },
-        )
+    record_sim(
+        request,
+        [
+            result.sim_record(
+                "scene co-simulation (3 RTL units, image equal byte for byte)", "scene_cosim"
+            )
+        ],
     )
     print(
         f"scene co-simulation: {result.pixels} pixels in {sum(result.seconds.values()):.1f} s "

@@ -32,6 +32,13 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument("--psnr", type=positive, default=None, metavar="DB", help="also: PSNR in dB")
     p.add_argument(
+        "--min-fmax",
+        type=positive,
+        default=None,
+        metavar="MHZ",
+        help="keep only a design reaching this Fmax on the first --part",
+    )
+    p.add_argument(
         "--part",
         action="append",
         choices=[k for k in PARTS if k != "xc7"],
@@ -103,6 +110,11 @@ def positive(text: str) -> float:
 def run_command(args: argparse.Namespace, source: scenefile.SceneSource, notes: list[str]) -> int:
     """``shading fit``: prints the stages and the report; exit 0 when the target is met, 1 when
     it cannot be (the bundle then holds the closest design)."""
+    if args.min_fmax is not None and args.no_synth:
+        args.command_parser.error(
+            f"argument --min-fmax: {args.min_fmax:g} is not allowed with --no-synth: an Fmax "
+            "comes from synthesis"
+        )
     try:
         target = search.Target(args.nmse, args.max_error, args.psnr)
     except ValueError as exc:
@@ -121,6 +133,7 @@ def run_command(args: argparse.Namespace, source: scenefile.SceneSource, notes: 
         lanes=args.lanes,
         synthesise=not args.no_synth,
         rtl=not args.no_rtl,
+        min_mhz=args.min_fmax,
         workers=args.workers,
         scheduler=args.scheduler,
     )
@@ -128,4 +141,4 @@ def run_command(args: argparse.Namespace, source: scenefile.SceneSource, notes: 
     print((out / "report.md").read_text())
     print(f"wrote the bundle to {out}/ ({len(found.files)} files)")
     proved = not found.rtl_proof or found.rtl_proof["equal"]
-    return 0 if found.result.met and proved else 1
+    return 0 if found.result.met and proved and found.fmax_met else 1

@@ -43,6 +43,7 @@ class FitReport:
     result: search.SearchResult
     costs: dict[str, SynthResult] = field(default_factory=dict)  # fitted design, per part
     default_costs: dict[str, SynthResult] = field(default_factory=dict)
+    min_mhz: float | None = None  # the least Fmax a candidate must reach on the first part
     # (candidate, its synthesis on the first part), when the fit synthesised them
     candidates: list[tuple[search.SearchResult, SynthResult]] = field(default_factory=list)
     rtl_proof: dict = field(default_factory=dict)  # {"equal": bool, "lines": [...], "seconds"}
@@ -50,6 +51,19 @@ class FitReport:
     cache_hits: int = 0
     seconds: dict[str, float] = field(default_factory=dict)
     files: list[Path] = field(default_factory=list)
+
+    def fast_enough(self, r: SynthResult) -> bool:
+        """Whether a synthesised design fits and reaches ``min_mhz`` (when one is set)."""
+        return r.fits and (self.min_mhz is None or (r.fmax_mhz or 0.0) >= self.min_mhz)
+
+    @property
+    def fmax_met(self) -> bool:
+        """False when a least Fmax was asked and the kept design misses it (or was not
+        synthesised)."""
+        if self.min_mhz is None:
+            return True
+        kept = [r for c, r in self.candidates if c is self.result]
+        return bool(kept) and self.fast_enough(kept[0])
 
     @property
     def units(self) -> tuple[str, ...]:
@@ -60,6 +74,8 @@ class FitReport:
             "scene": self.scene,
             "size": self.size,
             "target": self.target.describe(),
+            "min_mhz": self.min_mhz,
+            "fmax_met": self.fmax_met,
             "met": self.result.met,
             "needs": self.needs.as_dict(),
             "config": configfile.config_dict(self.result.config),
@@ -166,18 +182,26 @@ def _candidate_lines(report: FitReport) -> list[str]:
     if not report.candidates:
         return ["- (one candidate per policy; not synthesised, so the first policy's is kept)"]
     part = report.candidates[0][1].part
+    need = "" if report.min_mhz is None else f" among those reaching {report.min_mhz:g} MHz"
     lines = [
         f"- the candidates, one per policy, each placed and routed on {part}; the one taking "
-        "the smallest share of the part (sum of LUT, FF, BRAM and DSP used / available) is kept:",
+        f"the smallest share of the part (sum of LUT, FF, BRAM and DSP used / available){need} "
+        "is kept:",
         "",
-        "  | policy | NMSE | LUT | FF | BRAM | DSP | share of the part | kept |",
-        "  |---|---|---|---|---|---|---|---|",
+        "  | policy | NMSE | LUT | FF | BRAM | DSP | Fmax MHz | share of the part | kept |",
+        "  |---|---|---|---|---|---|---|---|---|",
     ]
     for cand, r in report.candidates:
         kept = "yes" if cand is report.result else ""
+        fmax = "-" if r.fmax_mhz is None else f"{r.fmax_mhz:.1f}"
         lines.append(
             f"  | {cand.policy} | {cand.comparison.nmse:.6f} | {r.lut} | {r.ff} | {r.bram} "
-            f"| {r.dsp} | {cost.part_share(r, part):.4f} | {kept} |"
+            f"| {r.dsp} | {fmax} | {cost.part_share(r, part):.4f} | {kept} |"
+        )
+    if not report.fmax_met:
+        lines.append(
+            f"- NO candidate reaches {report.min_mhz:g} MHz on {part}: the cheapest is kept, and "
+            "the fit fails"
         )
     return lines
 
@@ -310,6 +334,7 @@ def fit(
     synthesise: bool = True,
     compare_default: bool = True,
     rtl: bool = False,
+    min_mhz: float | None = None,
     workers: int | None = None,
     scheduler: str | None = None,
     cache_dir: Path | None = CACHE_DIR,
@@ -342,7 +367,7 @@ def fit(
     else:
         candidates = search.search_candidates(evaluate, needs, target, lanes=lanes)
     seconds["search"] = time.perf_counter() - t
-    report = FitReport(the_scene.name, size, target, needs, candidates[0])
+    report = FitReport(the_scene.name, size, target, needs, candidates[0], min_mhz=min_mhz)
     report.renders, report.cache_hits = evaluate.renders + remote, evaluate.hits
     say(
         f"search: {'met' if candidates[0].met else 'NOT met'} {target.describe()}; "
@@ -355,7 +380,10 @@ def fit(
             for cand in candidates:
                 say(f"synthesis of the {cand.policy} candidate on {parts[0]} ...")
                 report.candidates.append((cand, cost.design_cost(cand.config, parts[0], note)))
-            report.result = min(report.candidates, key=lambda c: cost.part_share(c[1], parts[0]))[0]
+            report.result = min(
+                report.candidates,
+                key=lambda c: (not report.fast_enough(c[1]), cost.part_share(c[1], parts[0])),
+            )[0]
         result = report.result
         for part in parts:
             say(f"synthesis, place and route of the fitted design on {part} ...")

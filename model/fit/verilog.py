@@ -170,8 +170,10 @@ targets:
         verilator_options: [-Wall]
   synth:
     <<: *default
+    description: "Yosys for iCE40: a Tcl yosys, or the repository's scripts/yosys-shim/"
     default_tool: yosys
     tools:
       yosys:
         arch: ice40
+        output_format: json
 """

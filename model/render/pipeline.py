@@ -260,20 +260,22 @@ def build_jobs(spans: Spans, ctx: ShadeContext, cfg: PipelineConfig) -> UnitJobs
     )
 
 
-def _drawn_triangle_flags(spans: Spans, test) -> np.ndarray:
-    """Per span, the host's per-triangle test of its triangle; the host tests each triangle it
-    draws once (not the hidden or culled ones)."""
+def _drawn_triangle_flags(spans: Spans, mode: str, always: str, never: str, test) -> np.ndarray:
+    """Per span: True for every span in mode ``always``, False in mode ``never``, else the host's
+    per-triangle ``test`` of its triangle (the host tests each triangle it draws once, not the
+    hidden or culled ones)."""
+    if mode in (always, never):
+        return np.full(len(spans), mode == always, dtype=bool)
     drawn, index = np.unique(spans.tri, return_inverse=True)
     return test(drawn)[index]
 
 
 def _spans_through_specular_unit(spans: Spans, ctx: ShadeContext, cfg: PipelineConfig):
-    if cfg.specular_mode == "unit":
-        return np.ones(len(spans), dtype=bool)
-    if cfg.specular_mode == "vertex":
-        return np.zeros(len(spans), dtype=bool)
     return _drawn_triangle_flags(
         spans,
+        cfg.specular_mode,
+        "unit",
+        "vertex",
         lambda drawn: object_highlight_flags(
             ctx.scene, obj=ctx.obj, levels=cfg.highlight_levels, triangles=drawn
         ),
@@ -281,12 +283,11 @@ def _spans_through_specular_unit(spans: Spans, ctx: ShadeContext, cfg: PipelineC
 
 
 def _spans_with_diffuse_unit(spans: Spans, ctx: ShadeContext, cfg: PipelineConfig):
-    if cfg.diffuse_mode == "unit":
-        return np.ones(len(spans), dtype=bool)
-    if cfg.diffuse_mode == "gouraud":
-        return np.zeros(len(spans), dtype=bool)
     return _drawn_triangle_flags(
         spans,
+        cfg.diffuse_mode,
+        "unit",
+        "gouraud",
         lambda drawn: object_diffuse_flags(
             ctx.scene, obj=ctx.obj, spread_deg=cfg.diffuse_spread_deg, triangles=drawn
         ),
