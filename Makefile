@@ -38,7 +38,8 @@ test: setup tools
 model-test: setup
 	$(PYTEST) -n $(JOBS) -m "not sim" tests
 
-# Every cocotb regression under Icarus; WAVES=1 make sim dumps FST waveforms in sim_build/.
+# Every cocotb regression under Icarus (SIM=verilator: Verilator, which cocotb 2.x wants at 5.036 or
+# later; sim/runner.py refuses an older one by name); WAVES=1 make sim dumps FST waveforms in sim_build/
 sim: setup tools
 	$(PYTEST) -n $(JOBS) -m sim tests
 
@@ -82,7 +83,7 @@ accuracy: setup
 # the seconds a 70k-triangle mesh file takes to load in each format (target: under 2 s), then the
 # RTL scene co-simulation (sphere 64 x 64 through the three units under Icarus).
 bench: setup tools
-	$(PY) -m model bench
+	$(PY) -m model bench --studies
 	$(PY) -m model bench-load
 	$(PY) -m sim bench
 

@@ -107,31 +107,13 @@ def demo(
     return 0
 
 
-def bench(source: scenefile.SceneSource, size: int, repeats: int) -> int:
-    """Speed of the bit-exact pipeline against the float references, in one run, as ratios."""
-    from model.study import report
+def bench(
+    sources: list[scenefile.SceneSource], sizes: list[int], repeats: int, studies: bool = False
+) -> int:
+    """Speed of the bit-exact pipeline against the float shaders, in one run (``study.bench``)."""
+    from model.study import bench as bench_study
 
-    run = report.run_methods(
-        source.scene(size, size),
-        methods=["exact", "phong", "hybrid", "adaptive"],
-        repeats=repeats,
-    )
-    pps = {name: r.pixels_per_second for name, r in run.results.items()}
-    print(f"== bench: {source.label} {size} x {size}, best of {repeats} (shading only) ==")
-    print("| method | pixels/s | vs (a) exact Blinn | vs (b) Phong |")
-    print("|---|---|---|---|")
-    for name, value in pps.items():
-        print(
-            f"| {report.METHOD_LABELS[name]} | {value:,.0f} | {value / pps['exact']:.2f}x "
-            f"| {value / pps['phong']:.2f}x |"
-        )
-    target = pps["hybrid"] / pps["exact"]
-    print(
-        f"\ntarget: bit-exact pipeline >= 5x faster than (a): measured {target:.2f}x "
-        f"({'met' if target >= 5 else 'not met'})"
-    )
-    print("the RTL co-simulation's speed: python -m sim bench (make bench runs both)")
-    return 0
+    return bench_study.main(sources, sizes, repeats, studies)
 
 
 # ---------------------------------------------------------------------- argument types
@@ -289,17 +271,26 @@ def build_parser() -> argparse.ArgumentParser:
         "Pixels per second of the bit-exact pipeline against the float references (ratios); "
         "the RTL co-simulation is `python -m sim bench`.",
         "  shading bench\n"
-        "  shading bench --scene sphere --size 128 --repeats 3\n"
+        "  shading bench --scenes sphere teapot --sizes 64 512 --repeats 3\n"
         "  shading bench --mesh bunny.obj",
     )
     _scene_or_mesh(p)
-    _size(p, 256)
+    p.add_argument("--size", type=int_in(8, 4096), default=None, metavar="N",
+                   help="one image size instead of --sizes, 8..4096")  # fmt: skip
+    p.add_argument("--scenes", nargs="+", choices=SCENES, default=SCENES, metavar="NAME",
+                   help=f"built-in scenes (default: all: {', '.join(SCENES)})")  # fmt: skip
+    p.add_argument("--sizes", nargs="+", type=int_in(8, 4096), default=[64, 512, 1024],
+                   metavar="N", help="image sizes, 8..4096 (default: 64 512 1024)")  # fmt: skip
+    p.set_defaults(scene=None)
     p.add_argument(
         "--repeats",
         type=int_in(1),
         default=5,
         metavar="N",
         help="timed runs per method, >= 1 (default: 5)",
+    )
+    p.add_argument(
+        "--studies", action="store_true", help="also (g)'s gain against n, and the scaling plot"
     )
 
     p = _command(
@@ -462,8 +453,10 @@ def _run(parser: argparse.ArgumentParser, args: argparse.Namespace) -> int:
         source = args.scene
         if args.mesh is not None:
             source = check_mesh(args.command_parser, args.mesh, args.up)
-        if args.command == "bench":
-            return bench(source, args.size, args.repeats)
+        if args.command == "bench":  # --scene, --mesh, --size: one scene or size instead
+            sources = [source] if source else [scenefile.scene_source(n) for n in args.scenes]
+            sizes = [args.size] if args.size else args.sizes
+            return bench(sources, sizes, args.repeats, args.studies)
         from model.study import report
 
         report.check_output_dir("--out", args.out)

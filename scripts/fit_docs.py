@@ -11,7 +11,7 @@ import re
 import sys
 from pathlib import Path
 
-from model.fit import run
+from model.fit import report
 
 
 def main(record_path: str, page_path: str) -> int:
@@ -19,12 +19,13 @@ def main(record_path: str, page_path: str) -> int:
     page = Path(page_path)
     text = page.read_text()
     pattern = re.compile(
-        re.escape(run.DOCS_BEGIN.split("{record}")[0]) + r".*?" + re.escape(run.DOCS_END), re.S
+        re.escape(report.DOCS_BEGIN.split("{record}")[0]) + r".*?" + re.escape(report.DOCS_END),
+        re.S,
     )
     if not pattern.search(text):
-        print(f"{page}: no generated block ({run.DOCS_END}) to replace", file=sys.stderr)
+        print(f"{page}: no generated block ({report.DOCS_END}) to replace", file=sys.stderr)
         return 1
-    block = run.docs_block(record, record_path)
+    block = report.docs_block(record, record_path)
     page.write_text(pattern.sub(lambda _: block, text, count=1))
     print(f"wrote the record {record_path} into {page}")
     return 0

@@ -4,8 +4,13 @@ command's options and examples.
 
 Commands:
   bench   pixels per second of the scene co-simulation: every span of a scene through the three
-          RTL units under Icarus (``sim.scene_cosim``), the image compared with the model's byte
-          for byte (``make bench`` runs it after ``python -m model bench``, the software speed)
+          RTL units under the simulator SIM names (Icarus by default; ``sim.scene_cosim``), the
+          image compared with the model's byte for byte; then the vector mode: each unit's
+          plain Verilog vector bench (sim/vectors/tb_<unit>.v, no Python in the loop) replaying
+          a 200k-cycle stimulus of the committed sets' generator (``vector_sets.write_stimulus``,
+          in a temporary folder) under Icarus and ``verilator --binary``, build and run timed
+          apart, results per second per simulator (``make bench`` runs it after
+          ``python -m model bench``, the software speed)
 
 Argument checks are this module's own (``sim`` sits below ``model.cli``): a bad value is refused
 in one line naming the argument, its value and what is allowed, exit status 2, before any work.
@@ -16,10 +21,18 @@ from __future__ import annotations
 import argparse
 import shutil
 import sys
+import tempfile
+import time
+from pathlib import Path
 
 from model.render import meshfile, scene, scenefile
 
 PROG = "python -m sim"
+VECTOR_CYCLES = 200_000
+MAX_VECTOR_CYCLES = 10_000_000
+VECTOR_SIMS = ("icarus", "verilator")
+# The issue 15 target: the specular unit's vector bench under Verilator, results per second.
+VECTOR_TARGET = ("specular_unit", "verilator", 1_000_000)
 
 
 def size_type(text: str) -> int:
@@ -30,6 +43,18 @@ def size_type(text: str) -> int:
     except ValueError:
         raise argparse.ArgumentTypeError(f"{text!r} is not allowed: must be {legal}") from None
     if not 8 <= value <= scene.MAX_RESOLUTION:
+        raise argparse.ArgumentTypeError(f"{value} is not allowed: must be {legal}")
+    return value
+
+
+def cycles_type(text: str) -> int:
+    """An argparse ``type``: a vector stimulus length in 100..``MAX_VECTOR_CYCLES``."""
+    legal = f"an integer in 100..{MAX_VECTOR_CYCLES}"
+    try:
+        value = int(text.replace("_", ""))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not allowed: must be {legal}") from None
+    if not 100 <= value <= MAX_VECTOR_CYCLES:
         raise argparse.ArgumentTypeError(f"{value} is not allowed: must be {legal}")
     return value
 
@@ -54,16 +79,19 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, metavar="command")
     summary = (
         "Pixels per second of the scene co-simulation: every span through the three RTL units "
-        "under Icarus, the image compared with the model's byte for byte."
+        "under SIM (icarus, the default, or verilator), the image compared with the model's "
+        "byte for byte; then the vector mode: each unit's plain Verilog vector bench replaying "
+        "a generated stimulus under Icarus and verilator --binary, results per second."
     )
     p = sub.add_parser(
         "bench",
         help=summary,
         description=summary,
         epilog="examples:\n"
-        "  python -m sim bench                          # sphere, 64 x 64\n"
-        "  python -m sim bench --scene torus --size 48\n"
-        "  python -m sim bench --scene teapot --size 128 --config out/fit/teapot/config.toml",
+        "  python -m sim bench                          # sphere, 64 x 64, then vector mode\n"
+        "  python -m sim bench --scene teapot --size 128 --config out/fit/teapot/config.toml "
+        "--no-vectors\n"
+        "  python -m sim bench --vectors-only --vector-cycles 1000000",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     where = p.add_mutually_exclusive_group()
@@ -105,6 +133,25 @@ def build_parser() -> argparse.ArgumentParser:
         help="the units at this pipeline configuration (a TOML file, e.g. the config.toml of a "
         "`shading fit` bundle) instead of method (c)",
     )
+    mode = p.add_mutually_exclusive_group()
+    mode.add_argument(
+        "--no-vectors",
+        action="store_true",
+        help="skip the vector mode (the plain Verilog vector benches under Icarus and Verilator)",
+    )
+    mode.add_argument(
+        "--vectors-only",
+        action="store_true",
+        help="the vector mode only, no scene co-simulation",
+    )
+    p.add_argument(
+        "--vector-cycles",
+        type=cycles_type,
+        default=VECTOR_CYCLES,
+        metavar="N",
+        help=f"cycles of each unit's generated vector stimulus, 100..{MAX_VECTOR_CYCLES} "
+        f"(default: {VECTOR_CYCLES})",
+    )
     return parser
 
 
@@ -131,15 +178,16 @@ def bench(source: scenefile.SceneSource, size: int, config=None) -> int:
             file=sys.stderr,
         )
         return 1
-    if shutil.which("iverilog") is None or shutil.which("vvp") is None:
-        print(
-            f"{PROG} bench: error: Icarus Verilog (iverilog, vvp) not found; "
-            "`make bench` installs it",
-            file=sys.stderr,
-        )
+    from sim import runner
+
+    try:
+        sim = runner.simulator()
+        runner.require_simulator(sim)
+    except (ValueError, RuntimeError) as exc:
+        print(f"{PROG} bench: error: {exc}", file=sys.stderr)
         return 1
     name, target = source.label, source.scene(size, size)
-    print(f"== python -m sim bench: {name}, {size} x {size}, three RTL units under Icarus ==")
+    print(f"== python -m sim bench: {name}, {size} x {size}, three RTL units under {sim} ==")
     cosim = cosimulate(target, size, config or "hybrid", tag="scene_bench")
     same = bool(np.array_equal(cosim.rtl_rgb, cosim.model_rgb))
     for unit in cosim.jobs:
@@ -162,6 +210,79 @@ def bench(source: scenefile.SceneSource, size: int, config=None) -> int:
     return 0 if same else 1
 
 
+def vector_bench(cycles: int, sims: tuple[str, ...] = VECTOR_SIMS) -> int:
+    """Vector mode: each unit's default configuration, a ``cycles``-cycle stimulus of the
+    committed sets' generator (seed ``vector_sets.SEED``) replayed by its plain Verilog bench
+    under each simulator, build and run timed apart; the table, and 1 if any replay failed."""
+    from model.units import divider, gouraud, specular
+    from sim import vector_sets
+
+    configs = {"divider_shift": divider.DEFAULT, "gouraud_segment": gouraud.DEFAULT}
+    configs["specular_unit"] = specular.DEFAULT
+    found = [s for s in sims if shutil.which("iverilog" if s == "icarus" else s)]
+    for s in sorted(set(sims) - set(found)):
+        print(f"vector mode: {s} not found on PATH, left out (`make tools` installs it)")
+    print(
+        f"== vector mode: {cycles} cycles per unit (sim/vector_sets.py write_stimulus, seed "
+        f"{vector_sets.SEED}), replayed by sim/vectors/tb_<unit>.v without Python: instances "
+        "RESET_ALL = 0 and 1, every output compared every cycle =="
+    )
+    rows, failed = [], []
+    with tempfile.TemporaryDirectory(prefix="sim_bench_vectors_") as tmp:
+        for unit, cfg in configs.items():
+            t0 = time.monotonic()
+            folder = Path(tmp) / unit
+            stats = vector_sets.write_stimulus(cfg, cycles, vector_sets.SEED, folder)
+            print(f"  {unit}: stimulus and model prediction in {time.monotonic() - t0:.1f} s")
+            for sim in found:
+                # Verilator's runs take a fraction of a second: the fastest of three counts
+                repeats = 3 if sim == "verilator" else 1
+                run = vector_sets.replay(folder, sim, Path(tmp) / f"{unit}_{sim}", repeats=repeats)
+                if run.passed:
+                    build = Path(tmp) / f"load_{sim}"
+                    run.load_s = vector_sets.load_time(folder, sim, build, repeats=repeats)
+                else:
+                    failed.append(f"{unit} under {sim}")
+                    print(f"FAIL {unit} under {sim}: {run.mismatches} mismatches")
+                    print(run.log[-3000:])
+                rows.append((unit, sim, cycles, stats.results_compared, run))
+    head = ("unit", "simulator", "cycles", "results", "build s", "run s", "results/s")
+    head += ("load s", "w/o load/s")
+    print(f"{head[0]:<16} {head[1]:<10} " + " ".join(f"{h:>10}" for h in head[2:]))
+    rates = {}
+    for unit, sim, n, results, run in rows:
+        rate = results / run.run_s if run.run_s > 0 else 0.0
+        sim_s = run.run_s - run.load_s
+        # the difference of two timings: shown where it is a tenth of the run or more
+        bare = results / sim_s if run.load_s and sim_s >= 0.1 * run.run_s else None
+        rates[unit, sim] = (rate, bare)
+        print(
+            f"{unit:<16} {sim:<10} {n:>10} {results:>10} {run.build_s:>10.2f} "
+            f"{run.run_s:>10.3f} {rate:>10.0f} {run.load_s:>10.3f} "
+            + (f"{bare:>10.0f}" if bare else f"{'-':>10}")
+            + ("" if run.passed else "  FAILED")
+        )
+    print(
+        "results: the results the model predicts (each compared in both instances); run s: "
+        "the bench's whole run, $readmemh of its files included; load s: a bench that only "
+        "reads the same three files; w/o load/s: results / (run s - load s), where that "
+        "difference is a tenth of the run or more (else -); Verilator: fastest of 3 runs"
+    )
+    unit, sim, target = VECTOR_TARGET
+    if (unit, sim) in rates:
+        rate, bare = rates[unit, sim]
+        verdict = ", ".join(
+            f"{label} {value:,.0f} ({'met' if value >= target else 'NOT met'})"
+            for label, value in (("whole run", rate), ("without file reading", bare))
+            if value is not None
+        )
+        print(f"target: {unit} under {sim} >= {target:,} results/s: {verdict}")
+    if failed:
+        print(f"vector mode FAILED: {', '.join(failed)}")
+        return 1
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = build_parser()
     args = parser.parse_args(argv)
@@ -172,7 +293,10 @@ def main(argv: list[str] | None = None) -> int:
         except ValueError as exc:
             args.command_parser.error(f"argument --mesh: {' '.join(str(exc).split())}")
     # one command today; the subcommand keeps room for more
-    return bench(source, args.size, args.config)
+    status = 0 if args.vectors_only else bench(source, args.size, args.config)
+    if not args.no_vectors:
+        status = max(status, vector_bench(args.vector_cycles))
+    return status
 
 
 if __name__ == "__main__":

@@ -1,23 +1,36 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Build an RTL unit under Icarus and run a cocotb bench on it, from pytest.
+"""Build an RTL unit under Icarus or Verilator and run a cocotb bench on it, from pytest.
 
-``run_bench`` is the one entry point the tests use: it builds into ``sim_build/<name>``, passes
+``run_bench`` is the one entry point the tests use: it builds into ``sim_build/<name>`` (under
+Verilator ``sim_build/<name>-verilator``) with the simulator named by ``SIM`` in the environment
+(``icarus``, the default, or ``verilator``; anything else is refused in one line), passes
 the unit configuration and seed to the bench through the environment, fails unless the bench
 ran at least one test and all passed, and returns the bench's summary records (how many results
 were compared).  ``WAVES=1`` in the environment dumps an FST waveform next to the build.
 ``reset_all`` builds the unit with that RESET_ALL (docs/fpga.md, "Reset") and tells the bench
 (``BENCH_RESET_ALL``); the builds of RESET_ALL = 1 go to ``sim_build/<name>_reset_all``.
+
+Verilator through cocotb: cocotb 2.x's Verilator main (``verilator.cpp``) calls
+``VerilatedVpi::evalNeeded`` and ``doInertialPuts``, which Verilator has from 5.036 on (cocotb's
+own Makefile flow refuses older ones).  ``require_simulator`` reads ``verilator --version`` and
+refuses an older Verilator (e.g. Debian's 5.006) before any build, in one message naming the
+version found and the one needed; the Python-free vector benches (sim/vectors/replay.sh,
+``python -m sim bench``) use ``verilator --binary`` and run under 5.006.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
+import subprocess
 from dataclasses import asdict, is_dataclass
+from importlib.metadata import version
 from importlib.resources import files
 from pathlib import Path
 
+import cocotb_tools.config
 from cocotb_tools.check_results import get_results
 from cocotb_tools.runner import get_runner
 
@@ -35,6 +48,71 @@ def require_iverilog() -> None:
             "iverilog (Icarus Verilog) is not on PATH: install it with "
             "'apt-get install iverilog' (make test does this when run as root)"
         )
+
+
+SIMULATORS = ("icarus", "verilator")
+# The oldest Verilator cocotb 2.x's Verilator flow builds with (its Makefile.verilator VLT_MIN),
+# if that file cannot be read.
+VERILATOR_MIN = "5.036"
+
+
+def simulator() -> str:
+    """The simulator named by SIM in the environment: ``icarus`` (the default) or ``verilator``;
+    one clear error naming the variable, its value and the legal values otherwise."""
+    raw = os.environ.get("SIM", "")
+    sim = raw.strip().lower() or "icarus"
+    if sim not in SIMULATORS:
+        raise ValueError(
+            f"SIM={raw!r} is not allowed: it must be one of {', '.join(SIMULATORS)} (unset: icarus)"
+        )
+    return sim
+
+
+def version_key(text: str) -> tuple[int, ...]:
+    """A Verilator version, "5.036", as a comparable (major, minor)."""
+    return tuple(int(part) for part in re.findall(r"\d+", text)[:2])
+
+
+def verilator_min() -> str:
+    """The oldest Verilator the installed cocotb builds with (from its Makefile.verilator)."""
+    makefile = Path(cocotb_tools.config.makefiles_dir) / "simulators" / "Makefile.verilator"
+    try:
+        found = re.search(r"^VLT_MIN\s*:?=\s*([\d.]+)", makefile.read_text(), re.M)
+    except OSError:
+        found = None
+    return found.group(1) if found else VERILATOR_MIN
+
+
+def verilator_problem(version_text: str, needed: str) -> str | None:
+    """Why ``verilator --version`` output ``version_text`` cannot run cocotb (None: it can)."""
+    found = re.search(r"Verilator\s+(\d+\.\d+)", version_text)
+    if found is None:
+        return f"cannot read a version from `verilator --version` ({version_text.strip()!r})"
+    if version_key(found.group(1)) < version_key(needed):
+        return (
+            f"cocotb {version('cocotb')} needs Verilator {needed} or later (its Verilator main "
+            f"calls VerilatedVpi::evalNeeded), found Verilator {found.group(1)}: install a newer "
+            "Verilator, or run the cocotb benches under Icarus (SIM unset or SIM=icarus); the "
+            "vector benches (sim/vectors/replay.sh, python -m sim bench) run under this one"
+        )
+    return None
+
+
+def require_simulator(sim: str) -> None:
+    """Refuse, before any build, a simulator that is missing or too old for cocotb."""
+    if sim == "icarus":
+        require_iverilog()
+        return
+    exe = shutil.which("verilator")
+    if exe is None:
+        raise RuntimeError(
+            "SIM=verilator: verilator is not on PATH (cocotb needs Verilator "
+            f"{verilator_min()} or later), or run under Icarus (SIM unset or SIM=icarus)"
+        )
+    ran = subprocess.run([exe, "--version"], capture_output=True, text=True, timeout=60)
+    problem = verilator_problem(ran.stdout + ran.stderr, verilator_min())
+    if problem:
+        raise RuntimeError(f"SIM=verilator refused: {problem}")
 
 
 def env_seed(variable: str) -> int | None:
@@ -68,13 +146,16 @@ def run_bench(
     """Build ``rtl/<toplevel>.v`` with ``parameters`` and run ``sim/<bench_module>.py``.
 
     ``config`` (a dataclass) reaches the bench as JSON in BENCH_CONFIG.  String parameters are
-    quoted for Icarus here.  Returns the summary records the bench's monitors wrote.
+    quoted (``"..."``) here for both simulators: cocotb passes each as one argument,
+    ``-P<top>.NAME="..."`` to Icarus, ``-GNAME="..."`` to Verilator.  Returns the summary
+    records the bench's monitors wrote.
     ``rtl`` replaces ``rtl/<toplevel>.v`` (a saved mutant); with ``expect_failure`` the bench
     must fail (the records are returned then, with the failed tests' errors counted).
     ``reset_all`` (0 or 1) sets the RESET_ALL parameter; None keeps the one in ``parameters``
     (the RTL's default, 0, if it has none).
     """
-    require_iverilog()
+    sim = simulator()
+    require_simulator(sim)
     parameters = dict(parameters)
     if reset_all is not None:
         if reset_all not in (0, 1):
@@ -83,6 +164,8 @@ def run_bench(
     reset_all = int(parameters.get("RESET_ALL", 0))
     if reset_all:
         name = f"{name}_reset_all"
+    if sim != "icarus":
+        name = f"{name}-{sim}"
     build_dir = SIM_BUILD / name
     build_dir.mkdir(parents=True, exist_ok=True)
     summary = build_dir / "summary.jsonl"
@@ -91,7 +174,9 @@ def run_bench(
     hdl_params = {k: (f'"{v}"' if isinstance(v, str | Path) else v) for k, v in parameters.items()}
     cfg = asdict(config) if is_dataclass(config) else config
 
-    runner = get_runner("icarus")
+    runner = get_runner(sim)
+    # Verilator: the RTL's lint warnings (unused bits of a parameterised width) do not stop it.
+    build_args = ["-Wno-fatal", "-Wno-lint", "-Wno-style"] if sim == "verilator" else []
     runner.build(
         sources=[rtl or RTL_DIR / f"{toplevel}.v"],
         hdl_toplevel=toplevel,
@@ -100,6 +185,7 @@ def run_bench(
         timescale=("1ns", "1ps"),
         waves=waves,
         always=True,
+        build_args=build_args,
     )
     env = {
         "BENCH_CONFIG": json.dumps(cfg),

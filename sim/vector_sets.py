@@ -18,6 +18,13 @@ needs to replay them without Python:
 compares a fresh copy with the committed one, byte for byte).  The sets depend on the model
 only: after a change of the model's timing (e.g. the specular unit's FILL_LATENCY) run
 ``make vectors`` again.
+
+``write_stimulus`` writes a set of any length from the same generator into any folder (not
+committed: ``python -m sim bench`` times a 200k-cycle one), and ``replay`` builds and runs a
+set's bench under Icarus or ``verilator --binary`` as sim/vectors/replay.sh does, the build
+and the run timed apart; ``load_time`` times a bench that only reads the set's three files
+(``$readmemh`` parses about a million lines a second under Verilator 5.006: at 200k cycles it
+is most of the replay's run time there).
 """
 
 from __future__ import annotations
@@ -25,8 +32,10 @@ from __future__ import annotations
 import argparse
 import json
 import shutil
+import subprocess
 import sys
-from dataclasses import asdict
+import time
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from model.units import divider, gouraud, specular
@@ -176,6 +185,127 @@ def write_set(name: str, out_dir: Path) -> Path:
     text = json.dumps(manifest(name, cfg, cycles, seed, stats), indent=2) + "\n"
     (folder / "manifest.json").write_text(text)
     return folder
+
+
+def write_stimulus(cfg: units.UnitConfig, cycles: int, seed: int, folder: Path) -> soak.Stats:
+    """A set of ``cycles`` cycles of the soak's stimulus for ``seed`` (not committed) in
+    ``folder``: stim, expect and mask files and params.txt; returns what the stimulus covers."""
+    stim = soak.stimulus(cfg, cycles, seed)
+    pred = soak.predict(cfg, stim)
+    soak.write_vectors(units.spec(cfg), stim, pred.outputs, folder)
+    (folder / "params.txt").write_text(params_text(cfg, cycles))
+    return pred.stats
+
+
+@dataclass
+class Replay:
+    """One timed replay of a set: its bench built and run under ``sim``."""
+
+    sim: str
+    cycles: int
+    mismatches: int  # -1: the bench did not finish
+    passed: bool
+    build_s: float
+    run_s: float
+    log: str
+    load_s: float = 0.0  # of run_s: reading the three vector files alone (``load_time``)
+
+
+def set_parameters(set_dir: Path) -> tuple[str, dict[str, str]]:
+    """(unit, NAME -> Verilog value text) of a set's params.txt, ROM paths made absolute."""
+    unit, params = "", {}
+    for line in (set_dir / "params.txt").read_text().splitlines():
+        if not line.strip() or line.startswith("#"):
+            continue
+        name, value = line.split(None, 1)
+        if name == "UNIT":
+            unit = value
+        else:
+            rom = value.startswith('"rom/')
+            params[name] = f'"{RTL_DIR / value[1:-1]}"' if rom else value
+    if not unit:
+        raise ValueError(f"{set_dir / 'params.txt'} names no UNIT")
+    return unit, params
+
+
+def replay(set_dir: Path, sim: str, build: Path, timeout: float = 3600, repeats: int = 1) -> Replay:
+    """Build the bench of set ``set_dir`` under ``sim`` (icarus or verilator, as
+    sim/vectors/replay.sh: both RESET_ALL instances) in ``build``, run it ``repeats`` times;
+    the build and the fastest run timed apart."""
+    unit, params = set_parameters(set_dir)
+    top = f"tb_{unit}"
+    for kind in ("stim", "expect", "mask"):
+        params[f"{kind.upper()}_FILE"] = f'"{set_dir / f"{kind}.hex"}"'
+    sources = [str(VECTOR_DIR / f"{top}.v"), str(RTL_DIR / f"{unit}.v")]
+    common = [f"-I{VECTOR_DIR}", f'-DSHADING_ROM_DIR="{RTL_DIR / "rom"}"']
+    build.mkdir(parents=True, exist_ok=True)
+    if sim == "icarus":
+        vvp = build / f"{top}.vvp"
+        cmd = ["iverilog", "-g2005", "-o", str(vvp), "-s", top, *common]
+        cmd += [f"-P{top}.{k}={v}" for k, v in params.items()] + sources
+        run = ["vvp", "-n", str(vvp)]
+    elif sim == "verilator":
+        obj = build / f"obj_{top}"
+        cmd = ["verilator", "--binary", "-Wno-fatal", "-Wno-lint", "-Wno-style"]
+        cmd += ["--top-module", top, "-Mdir", str(obj), *common]
+        cmd += [f"-G{k}={v}" for k, v in params.items()] + sources
+        run = [str(obj / f"V{top}")]
+    else:
+        raise ValueError(f"sim={sim!r} is not allowed: it must be icarus or verilator")
+    cycles = int(params["CYCLES"])
+    t0 = time.monotonic()
+    built = subprocess.run(cmd, capture_output=True, text=True, cwd=build, timeout=timeout)
+    build_s = time.monotonic() - t0
+    log = built.stdout + built.stderr
+    if built.returncode != 0:
+        return Replay(sim, cycles, -1, False, build_s, 0.0, log)
+    run_s = float("inf")
+    for _ in range(repeats):  # the fastest of ``repeats`` runs (a run's output is the same)
+        t0 = time.monotonic()
+        ran = subprocess.run(run, capture_output=True, text=True, cwd=build, timeout=timeout)
+        run_s = min(run_s, time.monotonic() - t0)
+    log += ran.stdout + ran.stderr
+    done = soak.DONE.search(log)
+    mismatches = int(done.group(2)) if done else -1
+    passed = ran.returncode == 0 and done is not None and int(done.group(1)) == cycles
+    return Replay(sim, cycles, mismatches, passed and mismatches == 0, build_s, run_s, log)
+
+
+def load_time(
+    set_dir: Path, sim: str, build: Path, timeout: float = 3600, repeats: int = 1
+) -> float:
+    """Seconds a bench that only ``$readmemh``-reads the three files of ``set_dir`` (in words
+    as wide as their hex digits) runs under ``sim`` (fastest of ``repeats`` runs): the
+    replay's file-reading share."""
+    decls, reads = [], []
+    for kind in ("stim", "expect", "mask"):
+        path = set_dir / f"{kind}.hex"
+        lines = path.read_text().split()
+        digits, words = len(lines[0]), len(lines)
+        decls.append(f"reg [{4 * digits - 1}:0] {kind}_mem [0:{words - 1}];")
+        reads.append(f'$readmemh("{path}", {kind}_mem);')
+    text = "\n".join(
+        ["module tb_load;", *decls, "initial begin", *reads, "$finish;", "end", "endmodule"]
+    )
+    build.mkdir(parents=True, exist_ok=True)
+    (build / "tb_load.v").write_text(text + "\n")
+    if sim == "icarus":
+        cmd = ["iverilog", "-g2005", "-o", str(build / "tb_load.vvp"), str(build / "tb_load.v")]
+        run = ["vvp", "-n", str(build / "tb_load.vvp")]
+    else:
+        obj = build / "obj_tb_load"
+        cmd = ["verilator", "--binary", "-Wno-fatal", "-Wno-lint", "-Wno-style", "-Mdir", str(obj)]
+        cmd += [str(build / "tb_load.v")]
+        run = [str(obj / "Vtb_load")]
+    built = subprocess.run(cmd, capture_output=True, text=True, cwd=build, timeout=timeout)
+    if built.returncode != 0:
+        raise RuntimeError(f"{sim} could not build the file-reading bench:\n{built.stderr}")
+    best = float("inf")
+    for _ in range(repeats):
+        t0 = time.monotonic()
+        subprocess.run(run, capture_output=True, text=True, cwd=build, timeout=timeout, check=True)
+        best = min(best, time.monotonic() - t0)
+    return best
 
 
 def write_all(out_dir: Path = VECTOR_DIR, names: list[str] | None = None) -> list[Path]:

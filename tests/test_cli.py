@@ -127,7 +127,27 @@ def test_demo_and_bench_render_a_mesh_file(ball: Path, tmp_path: Path, capsys) -
     )
     assert status == 0
     assert out.startswith(f"== bench: mesh {ball} 16 x 16, best of 1 (shading only) ==")
-    assert "target: bit-exact pipeline >= 5x faster than (a)" in out
+    assert "target: (c) hybrid >= 10x (a) at 512 and 1024: not measured" in out
+
+
+def test_bench_prints_one_table_for_scenes_and_sizes(capsys) -> None:
+    """``bench --scenes --sizes``: one table, every scene at every size, each row's ratios,
+    and every target stated (met, not met or not measured)."""
+    status, out, _ = run_cli(
+        ["bench", "--scenes", "sphere", "quad", "--sizes", "16", "24", "--repeats", "1"], capsys
+    )
+    assert status == 0
+    assert out.startswith("== bench: sphere, quad 16 x 16, 24 x 24, best of 1 (shading only) ==")
+    rows = [line for line in out.splitlines() if line.startswith("| ")][1:]
+    labels = ("(a) exact Blinn", "(b) Phong", "numpy float Blinn", "(c) hybrid", "(g) adaptive")
+    for scene in ("sphere", "quad"):
+        for size in (16, 24):
+            mine = [r for r in rows if r.startswith(f"| {scene} | {size} |")]
+            assert all(any(f"| {label} |" in r for r in mine) for label in labels), mine
+    assert "| (a) exact Blinn | " in out and "| 1.00x |" in out
+    targets = [line for line in out.splitlines() if line.startswith("target: ")]
+    assert len(targets) == 5
+    assert all(t.endswith(("(met)", "(not met)")) or "not measured" in t for t in targets)
 
 
 def test_trade_takes_meshes_with_or_instead_of_scenes(ball: Path, capsys, monkeypatch) -> None:
@@ -199,6 +219,8 @@ def test_sim_command_line_from_another_folder(ball: Path, tmp_path: Path) -> Non
         (["--mesh", "missing.obj"], "argument --mesh: path = 'missing.obj' does not exist"),
         (["--scene", "sphere", "--mesh", str(ball)], "argument --mesh: not allowed with"),
         (["--size", "4"], "argument --size: 4 is not allowed: must be an integer in 8..4096"),
+        (["--vector-cycles", "5"], "argument --vector-cycles: 5 is not allowed: must be an"),
+        (["--no-vectors", "--vectors-only"], "argument --vectors-only: not allowed with"),
     ]:
         run = sim("bench", *argv)
         assert run.returncode == 2 and run.stdout == "" and "Traceback" not in run.stderr

@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 
 from model.cli import main
-from model.fit import analyse, cost, parallel, run, search, verilog
+from model.fit import analyse, cost, parallel, report, run, search, verilog
 from model.hw import wrapper
 from model.render import configfile, meshes, pipeline, raster, reference, scenefile, shade
 from model.study import metrics
@@ -29,7 +29,7 @@ SIZE = 48
 
 
 @pytest.fixture(scope="module")
-def sphere_fit(tmp_path_factory: pytest.TempPathFactory) -> tuple[run.FitReport, Path]:
+def sphere_fit(tmp_path_factory: pytest.TempPathFactory) -> tuple[report.FitReport, Path]:
     out = tmp_path_factory.mktemp("fit") / "sphere"
     cache = out.parent / "cache"
     found = run.fit(
@@ -330,7 +330,7 @@ def test_fitted_rtl_equals_the_model_byte_for_byte(sphere_fit, request) -> None:
 # coarse meshes: method (h) where the fit needs it, or a plain "cannot"
 
 
-def _coarse_fit(tmp_path: Path, subdivisions: int) -> run.FitReport:
+def _coarse_fit(tmp_path: Path, subdivisions: int) -> report.FitReport:
     size = 64
     the_scene = meshes.scene_from_mesh(
         meshes.sphere_mesh(subdivisions=subdivisions), width=size, height=size
@@ -422,7 +422,7 @@ def test_candidates_are_placed_and_routed_and_the_fmax_floor_holds(
     monkeypatch.setenv("SYNTH_CACHE", str(tmp_path / "synth"))
     source = scenefile.SceneSource("builtin", "sphere")
 
-    def fit(min_mhz: float, out: str) -> run.FitReport:
+    def fit(min_mhz: float, out: str) -> report.FitReport:
         return run.fit(
             source,
             32,

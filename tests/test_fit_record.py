@@ -12,7 +12,7 @@ from pathlib import Path
 import pytest
 import tomli_w
 
-from model.fit import analyse, cost, run, search
+from model.fit import analyse, cost, report, run, search
 from model.hw.parts import PARTS
 from model.render import configfile, pipeline, raster, reference, scenefile, shade
 from model.study import metrics
@@ -36,14 +36,14 @@ def _config(record: dict, tmp_path: Path) -> pipeline.PipelineConfig:
 
 def test_page_shows_the_record(record: dict) -> None:
     text = PAGE.read_text()
-    block = run.docs_block(record, "docs/fit_teapot.json")
+    block = report.docs_block(record, "docs/fit_teapot.json")
     assert block in text, STALE
     assert record["met"] and record["rtl_proof"]["equal"]
 
 
 def test_readme_quotes_the_record(record: dict) -> None:
     readme = " ".join((ROOT / "README.md").read_text().split())
-    assert run.readme_sentence(record) in readme, STALE
+    assert report.readme_sentence(record) in readme, STALE
 
 
 def test_search_finds_the_recorded_design(record: dict, tmp_path: Path) -> None:

@@ -1,11 +1,14 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Run the divider's cocotb bench under Icarus for several configurations."""
+"""Run the divider's cocotb bench under Icarus (or SIM) for several configurations; the
+runner's SIM handling: a bad value refused in one line, a Verilator too old for cocotb refused
+before any build, naming the version found and the one needed."""
 
 from __future__ import annotations
 
 import pytest
 
 from model.units import divider
+from sim import runner
 from sim.runner import SIM_BUILD, hdl_parameters, run_bench
 from tests import mutants
 from tests.conftest import record_sim
@@ -78,3 +81,33 @@ def test_stuck_busy_fails_instead_of_hanging(request) -> None:
         expect_failure=True,
     )
     assert records == [], records  # the test failed before it could finish its summary
+
+
+def test_a_bad_sim_is_refused_in_one_line(monkeypatch, tmp_path) -> None:
+    monkeypatch.setenv("SIM", "questa")
+    cfg = divider.DEFAULT
+    with pytest.raises(ValueError) as caught:
+        run_bench("divider_shift", "sim.tb_divider", "divider_bad_sim", {}, cfg)
+    message = str(caught.value)
+    assert "\n" not in message and message.startswith("SIM='questa' is not allowed"), message
+    assert "icarus, verilator" in message, message
+    assert not (SIM_BUILD / "divider_bad_sim").exists()  # refused before any build
+    for value, sim in [("", "icarus"), ("icarus", "icarus"), ("Verilator", "verilator")]:
+        monkeypatch.setenv("SIM", value)
+        assert runner.simulator() == sim
+    monkeypatch.delenv("SIM")
+    assert runner.simulator() == "icarus"
+
+
+def test_a_verilator_too_old_for_cocotb_is_refused() -> None:
+    """cocotb 2.x's Verilator main needs VerilatedVpi::evalNeeded (Verilator 5.036 on): an
+    older one is refused with both versions named, a new enough one accepted."""
+    needed = runner.verilator_min()
+    assert runner.version_key(needed) >= (5, 0), needed
+    old = runner.verilator_problem("Verilator 5.006 2023-01-22 rev (Debian 5.006-3)\n", "5.036")
+    assert old and "Verilator 5.036 or later" in old and "found Verilator 5.006" in old, old
+    assert "SIM=icarus" in old and "\n" not in old, old
+    assert runner.verilator_problem("Verilator 5.036 2025-04-27 rev v5.036", "5.036") is None
+    assert runner.verilator_problem("Verilator 5.040 2025-08-30 rev v5.040", "5.036") is None
+    assert runner.verilator_problem("Verilator 5.100 devel", "5.036") is None
+    assert "cannot read a version" in runner.verilator_problem("command not found", "5.036")

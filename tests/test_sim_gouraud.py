@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Run the segment Gouraud unit's cocotb bench under Icarus for several configurations."""
+"""Run the segment Gouraud unit's cocotb bench under SIM (Icarus by default) for several
+configurations."""
 
 from __future__ import annotations
 

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Run the specular unit's cocotb bench under Icarus: the default, narrow and UP5K configurations,
-the narrow one that keeps n = 17..40 only (``specular.KEPT``), and the default with RESET_ALL =
-1."""
+"""Run the specular unit's cocotb bench under SIM (Icarus by default): the default, narrow and
+UP5K configurations, the narrow one that keeps n = 17..40 only (``specular.KEPT``), and the
+default with RESET_ALL = 1."""
 
 from __future__ import annotations
 

@@ -5,7 +5,10 @@
 * every set replays clean under Icarus through sim/vectors/replay.sh, and each unit's default
   set under Verilator (one Verilator build per unit): both RESET_ALL instances, every cycle;
 * the bench fails loudly: a corrupted expected word gives a MISMATCH line naming its cycle and
-  a non-zero exit under both simulators; a short file is refused.
+  a non-zero exit under both simulators; a short file is refused;
+* the vector mode of ``python -m sim bench``: a generated stimulus (``write_stimulus``)
+  replays clean through ``vector_sets.replay`` under both simulators, timed, and a flipped
+  expected bit fails it (and the bench's exit status); no speed is asserted (a benchmark).
 """
 
 from __future__ import annotations
@@ -18,7 +21,9 @@ from pathlib import Path
 
 import pytest
 
+from model.units import divider, gouraud
 from sim import vector_sets
+from sim.__main__ import vector_bench
 
 pytestmark = pytest.mark.sim
 
@@ -90,7 +95,8 @@ def corrupt(src: Path, dst: Path) -> int:
     """A copy of set ``src`` in ``dst`` with one compared bit of one expected word flipped."""
     dst.mkdir()
     for f in vector_sets.FILES:
-        (dst / f).write_bytes((src / f).read_bytes())
+        if (src / f).exists():  # a generated set (write_stimulus) has no manifest
+            (dst / f).write_bytes((src / f).read_bytes())
     expect = (dst / "expect.hex").read_text().splitlines()
     mask = (dst / "mask.hex").read_text().splitlines()
     cycle = next(i for i in range(len(mask) // 2, len(mask)) if int(mask[i], 16) & 1)
@@ -122,3 +128,43 @@ def test_a_short_file_is_refused(tmp_path: Path) -> None:
     (bad / "mask.hex").write_text("\n".join(lines[:-5]) + "\n")
     ran = replay(bad, "icarus", tmp_path / "build")
     assert ran.returncode != 0 and "has fewer than CYCLES" in ran.stdout, ran.stdout + ran.stderr
+
+
+@pytest.mark.parametrize("tool", ["icarus", "verilator"])
+def test_timed_replay_of_a_generated_stimulus(tool: str, tmp_path: Path) -> None:
+    """The vector mode's replay: a tiny generated stimulus passes, timed; one flipped expected
+    bit fails it with both instances' MISMATCH lines."""
+    stats = vector_sets.write_stimulus(divider.ROM_CONFIGS["n4"], 400, 7, tmp_path / "set")
+    assert stats.results_compared > 0
+    run = vector_sets.replay(tmp_path / "set", tool, tmp_path / "build")
+    assert run.passed and run.mismatches == 0 and run.cycles == 400, run.log
+    assert run.build_s > 0 and run.run_s > 0
+    assert vector_sets.load_time(tmp_path / "set", tool, tmp_path / "load") > 0
+    cycle = corrupt(tmp_path / "set", tmp_path / "bad")
+    bad = vector_sets.replay(tmp_path / "bad", tool, tmp_path / "build_bad")
+    assert not bad.passed and bad.mismatches == 2, bad.log
+    assert f"MISMATCH cycle {cycle} RESET_ALL=1" in bad.log, bad.log
+
+
+def test_vector_mode_table_and_failure(monkeypatch, capsys) -> None:
+    """``vector_bench`` prints one row per unit and simulator and exits 0; a flipped expected
+    bit in one unit's stimulus makes it print FAIL and exit 1."""
+    assert vector_bench(200, sims=("icarus",)) == 0
+    out = capsys.readouterr().out
+    for unit in ("divider_shift", "gouraud_segment", "specular_unit"):
+        assert re.search(rf"^{unit} +icarus +200 +\d+ ", out, re.M), out
+    write = vector_sets.write_stimulus
+
+    def flipped(cfg, cycles, seed, folder):
+        stats = write(cfg, cycles, seed, folder)
+        if isinstance(cfg, gouraud.GouraudConfig):
+            corrupt(folder, folder.with_name("flipped"))
+            (folder / "expect.hex").write_bytes(
+                (folder.with_name("flipped") / "expect.hex").read_bytes()
+            )
+        return stats
+
+    monkeypatch.setattr(vector_sets, "write_stimulus", flipped)
+    assert vector_bench(200, sims=("icarus",)) == 1
+    out = capsys.readouterr().out
+    assert "FAIL gouraud_segment under icarus" in out and "vector mode FAILED" in out, out

@@ -134,6 +134,7 @@ def run_command(args: argparse.Namespace, source: scenefile.SceneSource, notes: 
         synthesise=not args.no_synth,
         rtl=not args.no_rtl,
         min_mhz=args.min_fmax,
+        progress=True,
         workers=args.workers,
         scheduler=args.scheduler,
     )

@@ -22,12 +22,15 @@ Per span of ``l`` intervals (``l + 1`` pixels), as the patent's external device 
    (and the vertex specular where the highlight is not made by the unit).
 5. **Sum and saturate**: each channel is ``min(gouraud + diffuse + specular, 255)``.
 
-Every pixel value comes out of the unit models, through their batched public calls
-(``divider.divide_many``, ``gouraud.shade_lines``, ``specular.shade_lines``: each row equals the
-per-line call); the float work is only the set-up (1, 4).  The same steps run on RTL outputs in
-the scene co-simulation (``sim/scene_cosim.py``): the jobs each unit receives are ``UnitJobs``
-and the image is assembled from the units' outputs by ``assemble``, so the model image and the
-RTL image differ only if a unit does.
+Every pixel value comes out of the unit models: on the reference path through their batched
+public calls (``divider.divide_many``, ``gouraud.shade_lines``, ``specular.shade_lines``: each
+row equals the per-line call); the float work is only the set-up (1, 4).  The same steps run on
+RTL outputs in the scene co-simulation (``sim/scene_cosim.py``): the jobs each unit receives
+are ``UnitJobs`` and the image is assembled from the units' outputs by ``assemble``, so the
+model image and the RTL image differ only if a unit does.  ``unit_shader`` runs, by default,
+the same steps for one object in one numba kernel (``fused.shade_spans``, from the units'
+public per-pixel kernels), byte for byte the reference path's image (``SHADER_PATHS``;
+``tests/test_fast_pipeline.py``).
 
 Methods (``METHODS``): the hybrid with the patent's k-set and a = sqrt(n/k), the same with the
 thesis's inflection-matched a, the prototype's single cos^2 table, Gouraud only (the specular
@@ -42,6 +45,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from model.render import fused
 from model.render.reference import object_diffuse_flags, object_highlight_flags
 from model.render.shade import ShadeContext, ShadeResult
 from model.render.spans import Spans
@@ -211,21 +215,7 @@ class UnitJobs:
 
 def build_jobs(spans: Spans, ctx: ShadeContext, cfg: PipelineConfig) -> UnitJobs:
     """The operands every unit receives for one object's spans (float set-up + quantisation)."""
-    intervals = (spans.x_end - spans.x_start).astype(np.int64)
-    if intervals.size and intervals.max() > cfg.gouraud.len_max - 1:
-        raise ValueError(
-            f"span of {int(intervals.max()) + 1} pixels is out of range: the units take lines of "
-            f"1..{cfg.gouraud.len_max} pixels"
-        )
-    through_unit = _spans_through_specular_unit(spans, ctx, cfg)
-    diffuse_unit = _spans_with_diffuse_unit(spans, ctx, cfg)
-    s = cfg.specular
-    if through_unit.any() and not s.n_first <= ctx.material.n <= s.n_last:
-        raise ValueError(
-            f"material n = {ctx.material.n} (object {ctx.obj}) is out of range for this "
-            f"specular unit: legal range is {s.n_first}..{s.n_last} (its ROM 9 keeps only "
-            "those n: a unit fitted to a scene holds the n that scene used)"
-        )
+    intervals, through_unit, diffuse_unit = span_routes(spans, ctx, cfg)
     g_start, g_end = spans.g_start.copy(), spans.g_end.copy()
     # With the diffuse term from the specular unit, the Gouraud unit carries the ambient term.
     m = ctx.material
@@ -258,6 +248,27 @@ def build_jobs(spans: Spans, ctx: ShadeContext, cfg: PipelineConfig) -> UnitJobs
         diff_dz=diff[1],
         diff_z0=diff[2],
     )
+
+
+def span_routes(spans: Spans, ctx: ShadeContext, cfg: PipelineConfig):
+    """(intervals, through the specular unit, diffuse through the unit) per span, checked: a
+    span too long for the units, or a material n the specular unit does not keep, raises."""
+    intervals = (spans.x_end - spans.x_start).astype(np.int64)
+    if intervals.size and intervals.max() > cfg.gouraud.len_max - 1:
+        raise ValueError(
+            f"span of {int(intervals.max()) + 1} pixels is out of range: the units take lines of "
+            f"1..{cfg.gouraud.len_max} pixels"
+        )
+    through_unit = _spans_through_specular_unit(spans, ctx, cfg)
+    diffuse_unit = _spans_with_diffuse_unit(spans, ctx, cfg)
+    s = cfg.specular
+    if through_unit.any() and not s.n_first <= ctx.material.n <= s.n_last:
+        raise ValueError(
+            f"material n = {ctx.material.n} (object {ctx.obj}) is out of range for this "
+            f"specular unit: legal range is {s.n_first}..{s.n_last} (its ROM 9 keeps only "
+            "those n: a unit fitted to a scene holds the n that scene used)"
+        )
+    return intervals, through_unit, diffuse_unit
 
 
 def _drawn_triangle_flags(spans: Spans, mode: str, always: str, never: str, test) -> np.ndarray:
@@ -354,16 +365,24 @@ def assemble(
 def unit_counters(jobs: UnitJobs, cfg: PipelineConfig) -> dict[str, int]:
     """Hardware cost of the jobs, from the models' cycle counts (start-to-start clocks).  The
     diffuse jobs run on the specular unit too; they are counted apart (``diffuse_*``)."""
-    _, k = jobs.divider_operands()
     channels = jobs.i_start.shape[1]
-    spec_l = jobs.intervals[jobs.spec_span]
-    diff_l = jobs.intervals[jobs.diff_span]
+    spec_l, diff_l = jobs.intervals[jobs.spec_span], jobs.intervals[jobs.diff_span]
+    return route_counters(jobs.intervals, spec_l, diff_l, channels, cfg)
+
+
+def route_counters(
+    intervals: np.ndarray, spec_l: np.ndarray, diff_l: np.ndarray, channels: int, cfg
+) -> dict[str, int]:
+    """``unit_counters`` from the spans' intervals, those of the specular jobs and those of
+    the diffuse jobs (one per channel)."""
+    k = intervals[intervals > 0]  # one division per channel of every span with l >= 1
     return {
-        "divider_jobs": int(k.size),
-        "divider_cycles": int((divider.cycles(k, cfg.divider) + 1).sum()) if k.size else 0,
-        "gouraud_jobs": int(jobs.intervals.size * channels),
-        "gouraud_cycles": channels
-        * int((gouraud.cycles(jobs.intervals + 1, cfg.gouraud) + 1).sum()),
+        "divider_jobs": int(k.size) * channels,
+        "divider_cycles": channels * int((divider.cycles(k, cfg.divider) + 1).sum())
+        if k.size
+        else 0,
+        "gouraud_jobs": int(intervals.size * channels),
+        "gouraud_cycles": channels * int((gouraud.cycles(intervals + 1, cfg.gouraud) + 1).sum()),
         "specular_jobs": int(spec_l.size),
         "specular_pixels": int((spec_l + 1).sum()),
         "specular_cycles": int((specular.cycles(spec_l, cfg.specular) + 1).sum()),
@@ -412,22 +431,55 @@ def run_units(jobs: UnitJobs, offsets: np.ndarray, cfg: PipelineConfig):
     return g_out, s_out, d_flat.reshape(channels, npix).T
 
 
-def unit_shader(cfg: PipelineConfig):
-    """A rasteriser shader whose every pixel comes out of the bit-exact unit models."""
+SHADER_PATHS = ("fused", "threads", "jobs", "units")
+"""``unit_shader``'s paths, the same image by each: one kernel per object from the spans to
+the pixels (``fused.shade_spans``), the same over numba's threads, ``build_jobs`` then one
+kernel for the units and the sum (``fused.shade_jobs``), or ``build_jobs``, the units' batched
+calls and ``assemble`` (the reference path: what the scene co-simulation runs)."""
+
+
+def shade_pixels(jobs: UnitJobs, offsets: np.ndarray, cfg: PipelineConfig, path: str = "fused"):
+    """Steps 2-5 for one object's jobs: the (pixels, C) uint8 image, by ``path``
+    (``SHADER_PATHS``); every path gives the same bytes."""
+    if path == "units":
+        gouraud_out, specular_out, diffuse_out = run_units(jobs, offsets, cfg)
+        return assemble(gouraud_out, specular_out, diffuse_out=diffuse_out)
+    if path not in ("jobs", "fused", "threads"):
+        raise ValueError(f"path = {path!r} is out of range: legal values are {SHADER_PATHS}")
+    a, k = jobs.divider_operands()
+    q, _ = divider.divide_many(a, k, cfg.divider)
+    di = jobs.increments(q, cfg)
+    return fused.shade_jobs(jobs, di, offsets, cfg.gouraud, cfg.specular, threads=path == "threads")
+
+
+def unit_shader(cfg: PipelineConfig, path: str = "fused"):
+    """A rasteriser shader whose every pixel comes out of the bit-exact unit models (``path``:
+    one of ``SHADER_PATHS``, the same image by each)."""
+    if path not in SHADER_PATHS:
+        raise ValueError(f"path = {path!r} is out of range: legal values are {SHADER_PATHS}")
 
     def shader(spans: Spans, ctx: ShadeContext) -> ShadeResult:
-        jobs = build_jobs(spans, ctx, cfg)
-        gouraud_out, specular_out, diffuse_out = run_units(jobs, spans.offsets, cfg)
-        counters = unit_counters(jobs, cfg)
+        rgb = None
+        if path in ("fused", "threads"):
+            intervals, spec, diff = span_routes(spans, ctx, cfg)
+            rgb = fused.shade_spans(
+                spans, spec, diff, ctx.material, ctx.lighting, cfg.divider, cfg.gouraud,
+                cfg.specular, threads=path == "threads",
+            )  # fmt: skip
+        if rgb is None:  # the jobs' paths (and the units' errors, which they raise)
+            jobs = build_jobs(spans, ctx, cfg)
+            intervals, spec = jobs.intervals, np.zeros(len(spans), dtype=bool)
+            spec[jobs.spec_span] = True
+            diff = np.zeros(len(spans), dtype=bool)
+            diff[jobs.diff_span] = True
+            rgb = shade_pixels(jobs, spans.offsets, cfg, "units" if path == "units" else "jobs")
+        channels = spans.g_start.shape[1]
+        counters = route_counters(
+            intervals, intervals[spec], np.repeat(intervals[diff], channels), channels, cfg
+        )
         counters["triangles"] = int(np.count_nonzero(np.bincount(spans.tri)))
-        counters["specular_triangles"] = int(
-            np.count_nonzero(np.bincount(spans.tri[jobs.spec_span]))
-        )
-        counters["diffuse_triangles"] = int(
-            np.count_nonzero(np.bincount(spans.tri[jobs.diff_span]))
-        )
-        return ShadeResult(
-            assemble(gouraud_out, specular_out, diffuse_out=diffuse_out), counters=counters
-        )
+        counters["specular_triangles"] = int(np.count_nonzero(np.bincount(spans.tri[spec])))
+        counters["diffuse_triangles"] = int(np.count_nonzero(np.bincount(spans.tri[diff])))
+        return ShadeResult(rgb, counters=counters)
 
     return shader

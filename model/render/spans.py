@@ -132,8 +132,14 @@ class Spans:
         return Span(obj=self.obj, **kw)
 
     def select(self, mask_or_index: np.ndarray) -> Spans:
-        """The subset of spans picked by a boolean mask or index array (order kept)."""
-        kw = {name: getattr(self, name)[mask_or_index] for name in SPAN_ARRAYS}
+        """The subset of spans picked by a boolean mask or index array (order kept); a mask that
+        picks every span gives these spans themselves."""
+        pick = np.asarray(mask_or_index)
+        if pick.dtype == bool:
+            if pick.all():
+                return self  # every span: the arrays are not copied (Spans are read-only)
+            pick = np.flatnonzero(pick)
+        kw = {name: getattr(self, name).take(pick, axis=0) for name in SPAN_ARRAYS}
         return Spans(obj=self.obj, **kw)
 
     def pixel_xy(self) -> tuple[np.ndarray, np.ndarray]:

@@ -65,6 +65,15 @@ def epicentre_error(cfg: specular.SpecularConfig) -> tuple[float, int, float, fl
     )
 
 
+def frame_clocks(counters: dict) -> int:
+    """A frame's clocks with the units in parallel (module ``trade`` docstring): one divider and
+    one Gouraud unit per colour channel, one specular unit taking the highlight jobs and then
+    the diffuse jobs (n = 1)."""
+    div_c, gou_c = int(counters.get("divider_cycles", 0)), int(counters.get("gouraud_cycles", 0))
+    spec_c = int(counters.get("specular_cycles", 0)) + int(counters.get("diffuse_cycles", 0))
+    return max(math.ceil(div_c / CHANNELS), math.ceil(gou_c / CHANNELS), spec_c)
+
+
 def line_drift(cfg: pipeline.PipelineConfig) -> float:
     """Worst drift (levels) of a line's end value over the longest line: the divider's
     reciprocal (|a| k / 2^(N+1), |a| <= 255, k = k_max) plus the rounded increment
@@ -121,8 +130,7 @@ def evaluate(
         int(k.get("diffuse_cycles", 0)),
     )
     cycles = div_c + gou_c + spec_c + diff_c
-    # The diffuse jobs run on the one specular unit, after the highlight jobs.
-    frame_clocks = max(math.ceil(div_c / CHANNELS), math.ceil(gou_c / CHANNELS), spec_c + diff_c)
+    clocks = frame_clocks(k)
     s = cfg.specular
     if not cfg.uses_specular_unit or (s.n_first, s.n_last) != (1, specular.N_MAX):
         # No unit, or one that keeps only some n (a fitted one): no figure over n = 1..1000.
@@ -153,9 +161,9 @@ def evaluate(
         "diffuse_cycles": diff_c,
         "diffuse_pixels": int(k.get("diffuse_pixels", 0)),
         "cycles": cycles,
-        "frame_clocks": frame_clocks,
+        "frame_clocks": clocks,
         "px_per_clock": pixels / max(cycles, 1),
-        "px_per_clock_parallel": pixels / max(frame_clocks, 1),
+        "px_per_clock_parallel": pixels / max(clocks, 1),
         "table_bits": report.table_bits("trade", cfg),
         **hardware(cfg),
         "shade_seconds": best,

@@ -231,16 +231,43 @@ def _lines_kernel(
     lanes_buf = np.empty((max_seg, p), dtype=np.int64)
     mult = np.empty(p + 1, dtype=np.int64)
     for j in range(length.size):
-        nseg = (length[j] + p - 1) // p
-        values = values_buf[:nseg]
-        lanes = lanes_buf[:nseg]
         for c in range(i0.shape[1]):
-            _segment_kernel(
-                i0[j, c] + bias, di[j, c], shift_w, add_t, add_a, add_b, add_sub, values, mult
-            )
-            _convert_kernel(values, frac, out_max, lanes)
-            for x in range(length[j]):
-                out[starts[j] + x, c] = lanes[x // p, x % p]
+            line_kernel(
+                i0[j, c], di[j, c], length[j], bias, frac, out_max, shift_w, add_t, add_a,
+                add_b, add_sub, values_buf, lanes_buf, mult, out[starts[j] :, c],
+            )  # fmt: skip
+
+
+@njit(cache=True)
+def line_kernel(
+    i0: int,
+    di: int,
+    length: int,
+    bias: int,
+    frac: int,
+    out_max: int,
+    shift_w: np.ndarray,
+    add_t: np.ndarray,
+    add_a: np.ndarray,
+    add_b: np.ndarray,
+    add_sub: np.ndarray,
+    values_buf: np.ndarray,
+    lanes_buf: np.ndarray,
+    mult: np.ndarray,
+    out: np.ndarray,
+) -> None:
+    """One line of ``length`` pixels (checked operands), as ``shade_line``, into ``out[:length]``:
+    the kernel ``shade_lines`` runs per line and channel, public for fused renderers.
+    ``values_buf``, ``lanes_buf`` ((>= ceil(length / P), P) int64) and ``mult`` (P + 1) are the
+    caller's scratch space; the network arrays are ``network_arrays(cfg.network)``."""
+    p = values_buf.shape[1]
+    nseg = (length + p - 1) // p
+    values = values_buf[:nseg]
+    lanes = lanes_buf[:nseg]
+    _segment_kernel(i0 + bias, di, shift_w, add_t, add_a, add_b, add_sub, values, mult)
+    _convert_kernel(values, frac, out_max, lanes)
+    for x in range(length):
+        out[x] = lanes[x // p, x % p]
 
 
 def shade_lines(i0, di, length, cfg: GouraudConfig = DEFAULT, out=None, at=None) -> batch.LineBatch:
@@ -275,3 +302,22 @@ def shade_lines(i0, di, length, cfg: GouraudConfig = DEFAULT, out=None, at=None)
         pixels[:, None] if channels is None else pixels,  # a view: writes reach ``out``
     )
     return batch.LineBatch(pixels=pixels, offsets=offsets, cycles=np.maximum(1, -(-len_a // cfg.p)))
+
+
+@njit(cache=True, inline="always")
+def lane_pixel(i0: int, di: int, x: int, bias: int, frac: int, out_max: int) -> int:
+    """Pixel x of a line (checked operands) in closed form: the lane adder holds ``i0 + bias
+    + x * di`` exactly (the increment network's multiples are exact, ``mult[j] = j * dI``, and
+    the start register advances by ``mult[P] = P * dI``), then the output conversion.  The
+    same pixels as ``shade_line`` for every configuration (``tests/test_fast_pipeline.py``
+    compares them), without the per-segment network: the renderer's fast path."""
+    return fixed.saturate(fixed.trunc_shift(i0 + bias + x * di, frac), 0, out_max)
+
+
+@njit(cache=True)
+def line_closed_kernel(
+    i0: int, di: int, length: int, bias: int, frac: int, out_max: int, out: np.ndarray
+) -> None:
+    """``line_kernel`` in closed form (``lane_pixel`` for x = 0..length-1) into ``out``."""
+    for x in range(length):
+        out[x] = lane_pixel(i0, di, x, bias, frac, out_max)

@@ -85,6 +85,7 @@ from model.units.specular.config import (
 from model.units.specular.datapath import (
     cycles,
     line_angles,
+    pixel_value,
     rom12_path_kernel,
     shade_line,
     shade_lines,
@@ -107,6 +108,7 @@ from model.units.specular.roms import (
     write_roms,
 )
 from model.units.specular.setup import (
+    MIN_NORM,
     LineSetup,
     LineSetups,
     blinn_line,
@@ -114,6 +116,7 @@ from model.units.specular.setup import (
     rotation_onto,
     setup_line,
     setup_lines,
+    setup_row,
 )
 
 __all__ = [
@@ -125,6 +128,7 @@ __all__ = [
     "KEPT",
     "KEPT_CONFIGS",
     "MAX_TABLES",
+    "MIN_NORM",
     "NARROW",
     "N_MAX",
     "N_RANGES",
@@ -165,6 +169,7 @@ __all__ = [
     "line_angles",
     "mag_int_bits_for",
     "n_valid",
+    "pixel_value",
     "read_rom",
     "rom9_image",
     "rom9_words",
@@ -176,6 +181,7 @@ __all__ = [
     "rotation_onto",
     "setup_line",
     "setup_lines",
+    "setup_row",
     "shade_line",
     "shade_lines",
     "single_table_worst",

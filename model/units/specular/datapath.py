@@ -28,7 +28,7 @@ def _accumulate(dz: int, z0: int, length: int, acc: np.ndarray) -> None:
         acc[i] = value
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _rom12_word(
     acc: int, a_word: int, tsel: int, rom12: np.ndarray, mag_max: int, shift: int, addr_bits: int
 ) -> int:
@@ -57,8 +57,29 @@ def pixels_kernel(
 ) -> None:
     """Per pixel: the ROM-12 word, x C (multiplier 13), round, saturate."""
     for i in range(acc.size):
-        word = _rom12_word(acc[i], a_word, tsel, rom12, mag_max, shift, addr_bits)
-        out[i] = fixed.saturate(fixed.round_shift(c * word, out_shift), 0, out_max)
+        out[i] = pixel_value(
+            acc[i], c, a_word, tsel, rom12, mag_max, shift, addr_bits, out_shift, out_max
+        )
+
+
+@njit(cache=True, inline="always")
+def pixel_value(
+    acc: int,
+    c: int,
+    a_word: int,
+    tsel: int,
+    rom12: np.ndarray,
+    mag_max: int,
+    shift: int,
+    addr_bits: int,
+    out_shift: int,
+    out_max: int,
+) -> int:
+    """One pixel from its accumulator value (register 8, ``z0 + i * dz``: the adder is
+    exact): the ROM-12 word, x C (multiplier 13), round, saturate.  ``pixels_kernel`` per
+    pixel, public for fused renderers."""
+    word = _rom12_word(acc, a_word, tsel, rom12, mag_max, shift, addr_bits)
+    return fixed.saturate(fixed.round_shift(c * word, out_shift), 0, out_max)
 
 
 @njit(cache=True)
@@ -170,13 +191,39 @@ def _lines_kernel(
     """``_run_line`` for every row j, its l + 1 pixels written to ``out[starts[j]:]``."""
     acc_buf = np.empty(length.max() + 1 if length.size else 1, dtype=np.int64)
     for j in range(c.size):
-        acc = acc_buf[: length[j] + 1]
-        _accumulate(dz[j], z0[j], length[j], acc)
-        line = out[starts[j] : starts[j] + length[j] + 1]
-        pixels_kernel(
-            acc, c[j], rom9[n[j]], tsel[n[j]], rom12, mag_max, shift, addr_bits, out_shift,
-            out_max, line,
+        line_kernel(
+            c[j], dz[j], z0[j], length[j], rom9[n[j]], tsel[n[j]], rom12, mag_max, shift,
+            addr_bits, out_shift, out_max, acc_buf, out[starts[j] :],
         )  # fmt: skip
+
+
+@njit(cache=True)
+def line_kernel(
+    c: int,
+    dz: int,
+    z0: int,
+    length: int,
+    a_word: int,
+    tsel: int,
+    rom12: np.ndarray,
+    mag_max: int,
+    shift: int,
+    addr_bits: int,
+    out_shift: int,
+    out_max: int,
+    acc_buf: np.ndarray,
+    out: np.ndarray,
+) -> None:
+    """One line of l = ``length`` intervals (checked operands), as ``shade_line``, into
+    ``out[:length + 1]``: the kernel ``shade_lines`` runs per line, public for fused renderers.
+    ``a_word``, ``tsel`` are ``tables(cfg).rom9[n]``, ``.tsel[n]``; ``acc_buf`` (>= l + 1 int64)
+    is the caller's scratch space."""
+    acc = acc_buf[: length + 1]
+    _accumulate(dz, z0, length, acc)
+    pixels_kernel(
+        acc, c, a_word, tsel, rom12, mag_max, shift, addr_bits, out_shift, out_max,
+        out[: length + 1],
+    )  # fmt: skip
 
 
 def shade_lines(

@@ -20,6 +20,8 @@ from model.units import fixed
 from model.units.specular.config import DEFAULT, N_MAX, SpecularConfig
 
 _EPS = 1e-12
+MIN_NORM = _EPS
+"""The shortest end vector the set-up takes (``setup_line`` refuses shorter ones)."""
 
 
 @dataclass(frozen=True)
@@ -154,19 +156,37 @@ def _setup_kernel(
     See ``setup_line`` for the formulas and the degenerate cases.
     """
     for i in range(n.size):
-        w, gamma = _path(n1[i], n2[i], h1[i], h2[i])
-        cos1 = _dot3(n1[i], h1[i])
-        nw = _dot3(n1[i], w)
-        amp = min(1.0, np.hypot(cos1, nw))
-        lam = np.arctan2(nw, cos1)
-        if gamma / 2 - lam > np.pi:
-            lam += 2 * np.pi
-        out[i, 0] = gamma
-        out[i, 1] = lam
-        out[i, 2] = amp
-        out[i, 3] = light[i] * out_max * amp ** n[i]
-        out[i, 4] = (gamma / length[i]) / (np.pi / 2) if length[i] > 0 else 0.0
-        out[i, 5] = -lam / (np.pi / 2)
+        setup_row(n1[i], n2[i], h1[i], h2[i], n[i], light[i], length[i], out_max, out[i])
+
+
+@njit(cache=True)
+def setup_row(
+    n1: np.ndarray,
+    n2: np.ndarray,
+    h1: np.ndarray,
+    h2: np.ndarray,
+    n: int,
+    light: float,
+    length: int,
+    out_max: int,
+    out: np.ndarray,
+) -> None:
+    """One row of ``setup_lines``' kernel (unit (3,) vectors, checked operands): ``out[:6]`` =
+    gamma, lambda, A, C, dz, z0; public for fused renderers (the same code, so the same bits).
+    Before the registers, C, dz and z0 take ``c_format.quantise`` and ``z_format.quantise``."""
+    w, gamma = _path(n1, n2, h1, h2)
+    cos1 = _dot3(n1, h1)
+    nw = _dot3(n1, w)
+    amp = min(1.0, np.hypot(cos1, nw))
+    lam = np.arctan2(nw, cos1)
+    if gamma / 2 - lam > np.pi:
+        lam += 2 * np.pi
+    out[0] = gamma
+    out[1] = lam
+    out[2] = amp
+    out[3] = light * out_max * amp**n
+    out[4] = (gamma / length) / (np.pi / 2) if length > 0 else 0.0
+    out[5] = -lam / (np.pi / 2)
 
 
 def rotation_onto(src: np.ndarray, dst: np.ndarray) -> np.ndarray:
