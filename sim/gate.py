@@ -106,25 +106,9 @@ def cell_models(target: str, build: Path) -> Path:
     return dst
 
 
-def set_parameters(set_dir: Path) -> tuple[str, dict[str, str]]:
-    """(unit, NAME -> Verilog value text) of a set's params.txt, ROM paths absolute."""
-    unit, params = "", {}
-    for line in (set_dir / "params.txt").read_text().splitlines():
-        if not line.strip() or line.startswith("#"):
-            continue
-        name, value = line.split(None, 1)
-        if name == "UNIT":
-            unit = value
-            continue
-        if value.startswith('"rom/'):
-            value = f'"{RTL_DIR / value[1:-1]}"'
-        params[name] = value
-    return unit, params
-
-
 def synthesise(set_name: str, target: str, reset_all: int, build: Path) -> tuple[Path, float]:
     """The netlist of the set's unit for ``target`` with RESET_ALL = ``reset_all``."""
-    unit, params = set_parameters(VECTOR_DIR / set_name)
+    unit, params = vector_sets.set_parameters(VECTOR_DIR / set_name)
     folder = build / set_name / f"{target}_r{reset_all}"
     folder.mkdir(parents=True, exist_ok=True)
     netlist = folder / f"{unit}_netlist.v"
@@ -185,7 +169,7 @@ class GateRun:
 def simulate(set_name: str, target: str, reset_all: int, sim: str, netlist: Path) -> GateRun:
     """Replay set ``set_name`` on ``netlist`` under ``sim``."""
     set_dir = VECTOR_DIR / set_name
-    unit, params = set_parameters(set_dir)
+    unit, params = vector_sets.set_parameters(set_dir)
     top = f"tb_{unit}"
     params = {k: v for k, v in params.items() if not k.endswith("ROM_FILE") and k != "ALPHA"} | {
         "RESET_MODES": str(1 << reset_all),

@@ -43,6 +43,18 @@ THREAD_MIN_PIXELS = 1 << 15
 costs more than they save."""
 
 
+@njit(cache=True, inline="always")
+def _specular_line(
+    spec, n_px, z0, dz, c_reg, a_word, t_sel, rom12, mag_max, shift, addr_bits, out_shift, s_max
+) -> None:
+    """The specular unit's ``n_px`` pixels into ``spec``: the accumulator, register 8, is
+    ``z0 + x dz`` (an exact adder)."""
+    for x in range(n_px):
+        spec[x] = specular_pixel(
+            z0 + x * dz, c_reg, a_word, t_sel, rom12, mag_max, shift, addr_bits, out_shift, s_max
+        )
+
+
 @njit(cache=True)
 def _spans(
     first, stop, offsets, intervals, i_start, di, spec_job, spec_c, spec_dz, spec_z0, spec_n,
@@ -62,11 +74,8 @@ def _spans(
         if j >= 0:
             a_word, t_sel = rom9[spec_n[j]], tsel[spec_n[j]]
             c_reg, z0, dz = spec_c[j], spec_z0[j], spec_dz[j]
-            for x in range(n_px):  # the accumulator, register 8, is z0 + x dz (an exact adder)
-                spec[x] = specular_pixel(
-                    z0 + x * dz, c_reg, a_word, t_sel, rom12, mag_max, shift, addr_bits,
-                    out_shift, s_max,
-                )  # fmt: skip
+            _specular_line(spec, n_px, z0, dz, c_reg, a_word, t_sel, rom12, mag_max, shift,
+                           addr_bits, out_shift, s_max)  # fmt: skip
         else:
             for x in range(n_px):
                 spec[x] = 0
@@ -256,11 +265,8 @@ def _object_spans(
             c_reg = quantise(row[3], fp[F_C_SCALE], ip[I_C_LO], ip[I_C_HI])
             dz = quantise(row[4], fp[F_Z_SCALE], ip[I_Z_LO], ip[I_Z_HI])
             z0 = quantise(row[5], fp[F_Z_SCALE], ip[I_Z_LO], ip[I_Z_HI])
-            for x in range(n_px):  # the accumulator, register 8, is z0 + x dz (an exact adder)
-                spec[x] = specular_pixel(
-                    z0 + x * dz, c_reg, a_spec, t_spec, rom12, mag_max, shift, addr_bits,
-                    out_shift, s_max,
-                )  # fmt: skip
+            _specular_line(spec, n_px, z0, dz, c_reg, a_spec, t_spec, rom12, mag_max, shift,
+                           addr_bits, out_shift, s_max)  # fmt: skip
         else:
             for x in range(n_px):
                 spec[x] = 0
