@@ -182,7 +182,9 @@ def lighting_vectors(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(L, V, H) unit vectors at world points (..., 3)."""
     pts = np.asarray(points, dtype=np.float64)
-    flat = np.ascontiguousarray(pts.reshape(-1, 3))
+    # C-contiguous and writable: a read-only view (a broadcast, a frozen mesh's array) would
+    # make numba compile the kernel a second time for its read-only type
+    flat = np.require(pts.reshape(-1, 3), requirements=("C", "W"))
     out = np.empty((flat.shape[0], 9))
     _vectors_kernel(flat, params.light_kind, params.lvec, params.viewer_local, params.vvec, out)
     out = out.reshape((*pts.shape[:-1], 9))
