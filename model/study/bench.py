@@ -146,6 +146,44 @@ def targets(runs: list[Measurement]) -> list[str]:
     return out
 
 
+def unit_calls(pixels: int = 1 << 20, line: int = 16, repeats: int = 3) -> dict[str, float]:
+    """Mpx/s of the public batched unit calls (``gouraud.shade_lines``, three channels as the
+    pipeline calls it, and ``specular.shade_lines``) on ``pixels`` pixels in lines of ``line``
+    pixels with random legal operands, the best of ``repeats`` calls after a warm-up."""
+    import time
+
+    from model.units import gouraud, specular
+
+    rng = np.random.default_rng(2026)
+    lines = max(1, pixels // line)
+    g, s = gouraud.DEFAULT, specular.DEFAULT
+    i0 = rng.integers(0, 1 << g.i_width, (lines, 3))
+    di = rng.integers(-(1 << g.i_frac), 1 << g.i_frac, (lines, 3))
+    glen = np.full(lines, line)
+    c = rng.integers(0, 1 << s.c_width, lines)
+    dz = rng.integers(-(1 << 20), 1 << 20, lines)
+    z0 = rng.integers(-(1 << (s.z_frac_bits + 1)), 1 << (s.z_frac_bits + 1), lines)
+    n = rng.integers(1, specular.N_MAX + 1, lines)
+    slen = np.full(lines, line - 1)
+    calls = {
+        "gouraud.shade_lines (3 channels)": (
+            lambda: gouraud.shade_lines(i0, di, glen),
+            3 * lines * line,
+        ),
+        "specular.shade_lines": (lambda: specular.shade_lines(c, dz, z0, n, slen), lines * line),
+    }
+    found = {}
+    for name, (call, done) in calls.items():
+        call()  # numba compiles on the first call
+        best = math.inf
+        for _ in range(max(1, repeats)):
+            t = time.perf_counter()
+            call()
+            best = min(best, time.perf_counter() - t)
+        found[name] = done / best / 1e6
+    return found
+
+
 def main(
     sources: list[scenefile.SceneSource],
     sizes: list[int],
@@ -167,6 +205,9 @@ def main(
     print(format_table(runs))
     print()
     print("\n".join(targets(runs)))
+    print("\n== the public batched unit calls, 1M pixels in lines of 16 (target: 250 Mpx/s) ==")
+    for name, speed in unit_calls(repeats=repeats).items():
+        print(f"{name}: {speed:.1f} Mpx/s ({'met' if speed >= 250 else 'not met'})")
     if studies:
         from model.study import adaptive, scaling
 

@@ -208,37 +208,6 @@ def drift_worst(cfg: GouraudConfig = DEFAULT) -> float:
 # Many lines at once
 # ------------------------------------------------------------------------------------------------
 @njit(cache=True)
-def _lines_kernel(
-    i0: np.ndarray,
-    di: np.ndarray,
-    length: np.ndarray,
-    starts: np.ndarray,
-    p: int,
-    bias: int,
-    frac: int,
-    out_max: int,
-    shift_w: np.ndarray,
-    add_t: np.ndarray,
-    add_a: np.ndarray,
-    add_b: np.ndarray,
-    add_sub: np.ndarray,
-    out: np.ndarray,
-) -> None:
-    """``shade_line`` for every line j and channel c (i0, di: (L, C)), written to
-    ``out[starts[j] + x, c]``."""
-    max_seg = (length.max() + p - 1) // p if length.size else 1
-    values_buf = np.empty((max_seg, p), dtype=np.int64)
-    lanes_buf = np.empty((max_seg, p), dtype=np.int64)
-    mult = np.empty(p + 1, dtype=np.int64)
-    for j in range(length.size):
-        for c in range(i0.shape[1]):
-            line_kernel(
-                i0[j, c], di[j, c], length[j], bias, frac, out_max, shift_w, add_t, add_a,
-                add_b, add_sub, values_buf, lanes_buf, mult, out[starts[j] :, c],
-            )  # fmt: skip
-
-
-@njit(cache=True)
 def line_kernel(
     i0: int,
     di: int,
@@ -282,6 +251,12 @@ def shade_lines(i0, di, length, cfg: GouraudConfig = DEFAULT, out=None, at=None)
     (N,) or (N, C)) and ``at`` ((L,) rows) line j is written to ``out[at[j] : at[j] +
     length[j]]`` instead and ``pixels`` is ``out``.  A bad operand raises the ``ValueError`` of
     ``shade_line``, naming the row: ``di[3, 1] = ... is out of range``.
+
+    The pixels come from ``lane_pixel``, the lane adders' closed form, not from the segment
+    network ``shade_line`` models: the network's multiples are exact (``acc_width`` holds every
+    legal value), so both are ``i0 + bias + x * dI`` truncated and saturated, and the batched
+    call runs several times faster (tests/test_gouraud.py and tests/test_batch.py compare every
+    row with ``shade_line``).
     """
     batch.check_rows({"i0": i0, "di": di, "length": length}, channels=("i0", "di"))
     i0_a = fixed.check_operand("i0", i0, *cfg.i0_range, rows=True)
@@ -289,16 +264,14 @@ def shade_lines(i0, di, length, cfg: GouraudConfig = DEFAULT, out=None, at=None)
     len_a = fixed.check_operand("length", length, 1, cfg.len_max, rows=True)
     channels = None if i0_a.ndim == 1 else i0_a.shape[1]
     pixels, starts, offsets = batch.place_lines(len_a, out, at, channels)
-    _lines_kernel(
+    _lines_closed_kernel(
         i0_a.reshape(len_a.size, channels or 1),
         di_a.reshape(len_a.size, channels or 1),
         len_a,
         starts,
-        cfg.p,
         cfg.round_bias,
         cfg.i_frac,
         cfg.out_max,
-        *network_arrays(cfg.network),
         pixels[:, None] if channels is None else pixels,  # a view: writes reach ``out``
     )
     return batch.LineBatch(pixels=pixels, offsets=offsets, cycles=np.maximum(1, -(-len_a // cfg.p)))
@@ -312,6 +285,25 @@ def lane_pixel(i0: int, di: int, x: int, bias: int, frac: int, out_max: int) -> 
     same pixels as ``shade_line`` for every configuration (``tests/test_fast_pipeline.py``
     compares them), without the per-segment network: the renderer's fast path."""
     return fixed.saturate(fixed.trunc_shift(i0 + bias + x * di, frac), 0, out_max)
+
+
+@njit(cache=True)
+def _lines_closed_kernel(
+    i0: np.ndarray,
+    di: np.ndarray,
+    length: np.ndarray,
+    starts: np.ndarray,
+    bias: int,
+    frac: int,
+    out_max: int,
+    out: np.ndarray,
+) -> None:
+    """``shade_lines``: line j, channel c in closed form into ``out[starts[j] + x, c]``."""
+    for j in range(length.size):
+        for c in range(i0.shape[1]):
+            base = starts[j]
+            for x in range(length[j]):
+                out[base + x, c] = lane_pixel(i0[j, c], di[j, c], x, bias, frac, out_max)
 
 
 @njit(cache=True)

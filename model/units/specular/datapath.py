@@ -188,13 +188,16 @@ def _lines_kernel(
     out_max: int,
     out: np.ndarray,
 ) -> None:
-    """``_run_line`` for every row j, its l + 1 pixels written to ``out[starts[j]:]``."""
-    acc_buf = np.empty(length.max() + 1 if length.size else 1, dtype=np.int64)
+    """``_run_line`` for every row j, its l + 1 pixels written to ``out[starts[j]:]``: the
+    accumulator (register 8) of pixel x is ``z0 + x * dz`` exactly (adder 6 is exact), so each
+    pixel is ``pixel_value`` of it, with no accumulator buffer."""
     for j in range(c.size):
-        line_kernel(
-            c[j], dz[j], z0[j], length[j], rom9[n[j]], tsel[n[j]], rom12, mag_max, shift,
-            addr_bits, out_shift, out_max, acc_buf, out[starts[j] :],
-        )  # fmt: skip
+        a_word, t_sel, base = rom9[n[j]], tsel[n[j]], starts[j]
+        for x in range(length[j] + 1):
+            out[base + x] = pixel_value(
+                z0[j] + x * dz[j], c[j], a_word, t_sel, rom12, mag_max, shift, addr_bits,
+                out_shift, out_max,
+            )  # fmt: skip
 
 
 @njit(cache=True)
