@@ -85,7 +85,7 @@ accuracy: setup
 bench: setup tools
 	$(PY) -m model bench --studies
 	$(PY) -m model bench-load
-	$(PY) -m sim bench
+	$(PY) -m sim bench --scene teapot --size 256
 
 # The speed/accuracy trade: sweep every knob over the built-in scenes (Dask; cached, resumable).
 trade: setup
