@@ -115,10 +115,10 @@ fit: setup tools
 	cp out/fit/teapot/fit.json docs/fit_teapot.json
 	$(PY) scripts/fit_docs.py docs/fit_teapot.json docs/fit.md
 
-# Formal proofs (docs/formal.md) with SymbiYosys and z3 from .venv, for the divider and the
-# Gouraud unit (not yet the specular unit): protocol properties by k-induction, the arithmetic,
-# every cover reached, every property failing on a broken copy of the RTL (the released divider's
-# div_zero leak among them) and the synthesised netlist proven equal to the RTL; prints the table,
+# Formal proofs (docs/formal.md) with SymbiYosys and z3 from .venv, for the three units: protocol
+# properties by k-induction, the arithmetic (divider, Gouraud), every cover reached, every
+# property failing on a broken copy of the RTL (the released divider's div_zero leak among them)
+# and the synthesised netlist proven equal to the RTL (divider, Gouraud); prints the table,
 # writes out/formal/formal.json (about 8 minutes on 2 cores).  Overrides, e.g.
 # make formal FORMAL_ARGS='--quick' or FORMAL_ARGS='--jobs 2'
 FORMAL_ARGS ?=

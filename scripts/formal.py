@@ -5,14 +5,16 @@ Every job goes through ``model.hw.formal`` (docs/formal.md): the protocol proper
 k-induction, the quotient, every cover reached, every property failing on a deliberately broken
 copy of the RTL, the released divider (before commit ce5dedb, formal/divider_shift_released.v)
 failing its div_zero property, and the synthesised netlist proven equal to the RTL; the same
-for the segment Gouraud unit (--units gouraud_segment, model.hw.formal_gouraud).  The
-table is printed and written with every result to ``<out>/formal.json``.  Exit status 1 if a job
-does not give the outcome it requires, 2 on bad arguments or a missing tool.
+for the segment Gouraud unit (--units gouraud_segment, model.hw.formal_gouraud), and the
+specular unit's protocol proof, covers and deliberate errors (--units specular_unit,
+model.hw.formal_specular).  The table is printed and written with every result to
+``<out>/formal.json``.  Exit status 1 if a job does not give the outcome it requires, 2 on bad
+arguments or a missing tool.
 
     python scripts/formal.py                    # everything (make formal)
     python scripts/formal.py --quick            # the subset make test runs
     python scripts/formal.py --units divider_shift --jobs 2 --out out/formal
-    python scripts/formal.py --units gouraud_segment
+    python scripts/formal.py --units gouraud_segment specular_unit
 """
 
 from __future__ import annotations
@@ -40,8 +42,8 @@ def parse(argv: list[str] | None) -> argparse.Namespace:
     parser.add_argument(
         "--units",
         nargs="*",
-        default=["divider_shift", "gouraud_segment"],
-        help="units (default: divider_shift gouraud_segment)",
+        default=list(UNITS),
+        help=f"units (default: {' '.join(UNITS)})",
     )
     parser.add_argument("--jobs", type=int, default=1, help="jobs at a time (default 1)")
     parser.add_argument("--quick", action="store_true", help="the quick subset (make test)")
@@ -53,11 +55,6 @@ def parse(argv: list[str] | None) -> argparse.Namespace:
     for unit in units:
         if unit not in UNITS:
             parser.error(f"--units: {unit!r} is unknown: the units are {', '.join(UNITS)}")
-        if unit not in ("divider_shift", "gouraud_segment"):
-            parser.error(
-                f"--units: {unit} has no formal properties yet (only divider_shift and "
-                "gouraud_segment; docs/formal.md)"
-            )
     if not 1 <= args.jobs <= 16:
         parser.error(f"--jobs: {args.jobs} is out of range: 1 to 16")
     args.units = units

@@ -8,7 +8,9 @@ property failing on the saved mutant and on the released RTL
 RESET_ALL 0 and 1, the quotient, every mutant, the netlist equivalence) is ``make formal``.
 The segment Gouraud unit's quick jobs (``model.hw.formal_gouraud``) at its small configuration:
 the protocol properties proven by k-induction, every cover reached, the valid_exact property
-failing on its mutant.
+failing on its mutant.  The specular unit's (``model.hw.formal_specular``, default
+configuration): its protocol properties proven by k-induction, every cover reached, the
+n_err_of_the_line property failing on its mutant.
 Also: the property files, the mutants and docs/formal.md agree, and bad input to the Python calls
 and the command line is refused with a message naming it.
 """
@@ -23,11 +25,12 @@ from pathlib import Path
 
 import pytest
 
-from model.hw import formal, formal_gouraud
+from model.hw import formal, formal_gouraud, formal_specular
 
 ROOT = Path(__file__).resolve().parent.parent
 PROPS = ROOT / "formal" / "divider_shift_props.v"
 GOURAUD_PROPS = ROOT / "formal" / "gouraud_segment_props.v"
+SPECULAR_PROPS = ROOT / "formal" / "specular_unit_props.v"
 DOC = ROOT / "docs" / "formal.md"
 
 
@@ -49,6 +52,8 @@ def quick(tmp_path_factory) -> dict[str, formal.FormalResult]:
     for job in formal.jobs("divider_shift", quick=True, old_rtl=old):
         results[job.name] = formal.run_job(job, out)
     for job in formal.jobs("gouraud_segment", quick=True):
+        results[job.name] = formal.run_job(job, out)
+    for job in formal.jobs("specular_unit", quick=True):
         results[job.name] = formal.run_job(job, out)
     return results
 
@@ -87,6 +92,39 @@ def test_quick_gouraud_protocol_covers_and_mutant(quick) -> None:
     r = quick["gouraud_segment_mutant_valid_held"]
     assert r.ok and r.status == "failed", r.detail
     assert r.detail.startswith("valid_exact fails at step"), r.detail
+
+
+def test_quick_specular_protocol_covers_and_mutant(quick) -> None:
+    r = quick["specular_unit_prove_default"]
+    assert r.ok and r.status == "proven", r.detail
+    assert set(r.job.properties) == set(formal_specular.PROPERTIES)
+    r = quick["specular_unit_cover_default"]
+    assert r.ok, r.detail
+    assert {p for p, _ in r.rows} == set(formal_specular.COVERS)
+    assert all(s.startswith("reached in step") for _, s in r.rows), r.rows
+    r = quick["specular_unit_mutant_n_err_leak"]
+    assert r.ok and r.status == "failed", r.detail
+    assert r.detail.startswith("n_err_of_the_line fails at step"), r.detail
+
+
+def test_specular_property_file_mutants_and_doc_agree() -> None:
+    text = SPECULAR_PROPS.read_text()
+    assert text.splitlines()[0] == "// SPDX-License-Identifier: Apache-2.0"
+    for label in [*formal_specular.PROPERTIES, *formal_specular.COVERS]:
+        assert re.search(rf"\b{label}: (assert|cover)\(", text), label
+    for wire in formal_specular.INTERNALS:
+        assert re.search(rf"wire .*\b{wire};", text), wire
+    # every property is shown to fail on a broken copy of the RTL
+    assert {m.breaks for m in formal_specular.MUTANTS.values()} == set(formal_specular.PROPERTIES)
+    rtl = (ROOT / "rtl" / "specular_unit.v").read_text()
+    for m in formal_specular.MUTANTS.values():
+        assert rtl.count(m.original) == 1, m.name
+    doc = DOC.read_text()
+    for name in [*formal_specular.PROPERTIES, *formal_specular.COVERS, *formal_specular.MUTANTS]:
+        assert f"`{name}`" in doc, name
+    full = formal.jobs("specular_unit")
+    assert {j.kind for j in full} >= {"prove", "cover", "mutant"}
+    assert len([j for j in full if j.kind == "mutant"]) == len(formal_specular.MUTANTS)
 
 
 def test_gouraud_property_file_mutants_and_doc_agree() -> None:
@@ -142,8 +180,8 @@ def test_property_file_mutants_and_doc_agree() -> None:
 
 
 def test_bad_input_is_refused_with_a_message(tmp_path) -> None:
-    with pytest.raises(ValueError, match=r"specular_unit.*divider_shift and gouraud_segment"):
-        formal.jobs("specular_unit")
+    with pytest.raises(ValueError, match=r"'nonesuch'.*divider_shift, gouraud_segment"):
+        formal.jobs("nonesuch")
     job = formal.jobs("divider_shift", quick=True)[0]
     with pytest.raises(ValueError, match=r"config 'huge' is unknown"):
         formal.run_job(formal.FormalJob("x", "divider_shift", "prove", "huge"), tmp_path)
@@ -158,8 +196,9 @@ def test_bad_input_is_refused_with_a_message(tmp_path) -> None:
     "args, message",
     [
         (["--units", "nonesuch"], "'nonesuch' is unknown"),
-        (["--units", "specular_unit"], "specular_unit has no formal properties yet"),
         (["--jobs", "0"], "--jobs: 0 is out of range"),
+        # specular_unit is accepted (the next check refuses --jobs 0)
+        (["--units", "specular_unit", "--jobs", "0"], "--jobs: 0 is out of range"),
     ],
 )
 def test_cli_refuses_bad_arguments(args, message) -> None:

