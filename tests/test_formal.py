@@ -81,30 +81,29 @@ def test_quick_div_zero_property_fails_on_the_leak(quick, name) -> None:
     assert r.detail.startswith("div_zero_of_the_job fails at step"), r.detail
 
 
-def test_quick_gouraud_protocol_covers_and_mutant(quick) -> None:
-    r = quick["gouraud_segment_prove_small"]
+def check_unit_quick(quick, unit: str, config: str, module, properties, mutant: str, fails: str):
+    """The quick subset's jobs of one unit: the protocol proven (every property of
+    ``properties``), every cover reached, the mutant failing ``fails``."""
+    r = quick[f"{unit}_prove_{config}"]
     assert r.ok and r.status == "proven", r.detail
-    assert set(r.job.properties) == set(formal_gouraud.PROTOCOL)
-    r = quick["gouraud_segment_cover_small"]
+    assert set(r.job.properties) == set(properties)
+    r = quick[f"{unit}_cover_{config}"]
     assert r.ok, r.detail
-    assert {p for p, _ in r.rows} == set(formal_gouraud.COVERS)
+    assert {p for p, _ in r.rows} == set(module.COVERS)
     assert all(s.startswith("reached in step") for _, s in r.rows), r.rows
-    r = quick["gouraud_segment_mutant_valid_held"]
+    r = quick[f"{unit}_mutant_{mutant}"]
     assert r.ok and r.status == "failed", r.detail
-    assert r.detail.startswith("valid_exact fails at step"), r.detail
+    assert r.detail.startswith(f"{fails} fails at step"), r.detail
+
+
+def test_quick_gouraud_protocol_covers_and_mutant(quick) -> None:
+    check_unit_quick(quick, "gouraud_segment", "small", formal_gouraud, formal_gouraud.PROTOCOL,
+                     "valid_held", "valid_exact")  # fmt: skip
 
 
 def test_quick_specular_protocol_covers_and_mutant(quick) -> None:
-    r = quick["specular_unit_prove_default"]
-    assert r.ok and r.status == "proven", r.detail
-    assert set(r.job.properties) == set(formal_specular.PROPERTIES)
-    r = quick["specular_unit_cover_default"]
-    assert r.ok, r.detail
-    assert {p for p, _ in r.rows} == set(formal_specular.COVERS)
-    assert all(s.startswith("reached in step") for _, s in r.rows), r.rows
-    r = quick["specular_unit_mutant_n_err_leak"]
-    assert r.ok and r.status == "failed", r.detail
-    assert r.detail.startswith("n_err_of_the_line fails at step"), r.detail
+    check_unit_quick(quick, "specular_unit", "default", formal_specular,
+                     formal_specular.PROPERTIES, "n_err_leak", "n_err_of_the_line")  # fmt: skip
 
 
 def test_specular_property_file_mutants_and_doc_agree() -> None:
