@@ -106,43 +106,37 @@ def test_quick_specular_protocol_covers_and_mutant(quick) -> None:
                      formal_specular.PROPERTIES, "n_err_leak", "n_err_of_the_line")  # fmt: skip
 
 
-def test_specular_property_file_mutants_and_doc_agree() -> None:
-    text = SPECULAR_PROPS.read_text()
+def check_property_file(props, module, unit: str, labels: list[str]) -> list:
+    """The property file, the mutants, the helper wires and docs/formal.md of one unit agree:
+    every label is an assert or cover, every helper wire is declared, every property fails on
+    a mutant whose snippet occurs once in the RTL, every name is in the doc.  The unit's jobs."""
+    text = props.read_text()
     assert text.splitlines()[0] == "// SPDX-License-Identifier: Apache-2.0"
-    for label in [*formal_specular.PROPERTIES, *formal_specular.COVERS]:
+    for label in labels:
         assert re.search(rf"\b{label}: (assert|cover)\(", text), label
-    for wire in formal_specular.INTERNALS:
+    for wire in module.INTERNALS:
         assert re.search(rf"wire .*\b{wire};", text), wire
     # every property is shown to fail on a broken copy of the RTL
-    assert {m.breaks for m in formal_specular.MUTANTS.values()} == set(formal_specular.PROPERTIES)
-    rtl = (ROOT / "rtl" / "specular_unit.v").read_text()
-    for m in formal_specular.MUTANTS.values():
+    assert {m.breaks for m in module.MUTANTS.values()} == set(module.PROPERTIES)
+    rtl = (ROOT / "rtl" / f"{unit}.v").read_text()
+    for m in module.MUTANTS.values():
         assert rtl.count(m.original) == 1, m.name
     doc = DOC.read_text()
-    for name in [*formal_specular.PROPERTIES, *formal_specular.COVERS, *formal_specular.MUTANTS]:
+    for name in [*labels, *module.MUTANTS]:
         assert f"`{name}`" in doc, name
-    full = formal.jobs("specular_unit")
+    return formal.jobs(unit)
+
+
+def test_specular_property_file_mutants_and_doc_agree() -> None:
+    labels = [*formal_specular.PROPERTIES, *formal_specular.COVERS]
+    full = check_property_file(SPECULAR_PROPS, formal_specular, "specular_unit", labels)
     assert {j.kind for j in full} >= {"prove", "cover", "mutant"}
     assert len([j for j in full if j.kind == "mutant"]) == len(formal_specular.MUTANTS)
 
 
 def test_gouraud_property_file_mutants_and_doc_agree() -> None:
-    text = GOURAUD_PROPS.read_text()
-    assert text.splitlines()[0] == "// SPDX-License-Identifier: Apache-2.0"
     labels = [*formal_gouraud.PROPERTIES, formal_gouraud.PRODUCT, *formal_gouraud.COVERS]
-    for label in labels:
-        assert re.search(rf"\b{label}: (assert|cover)\(", text), label
-    for wire in formal_gouraud.INTERNALS:
-        assert re.search(rf"wire .*\b{wire};", text), wire
-    # every property is shown to fail on a broken copy of the RTL
-    assert {m.breaks for m in formal_gouraud.MUTANTS.values()} == set(formal_gouraud.PROPERTIES)
-    rtl = (ROOT / "rtl" / "gouraud_segment.v").read_text()
-    for m in formal_gouraud.MUTANTS.values():
-        assert rtl.count(m.original) == 1, m.name
-    doc = DOC.read_text()
-    for name in [*labels, *formal_gouraud.MUTANTS]:
-        assert f"`{name}`" in doc, name
-    full = formal.jobs("gouraud_segment")
+    full = check_property_file(GOURAUD_PROPS, formal_gouraud, "gouraud_segment", labels)
     assert {j.kind for j in full} == {"prove", "cover", "mutant", "equiv"}
     assert any(j.kind == "prove" and j.config == "default" and j.arith for j in full)
 

@@ -7,6 +7,7 @@ Owns ``units_used`` (the units a design instantiates), ``design_files`` (the des
 Gouraud unit (time-shared by the three colour channels) and, where its shading modes use it, one
 specular unit, behind the range guard of ``model.fit.verilog``; the figures count every cell of
 it (LUT, FF, BRAM, DSP), whether it fits the part, and its Fmax.  May import ``model.hw``,
+``model.study.trade`` (which units a configuration uses),
 ``model.render`` and ``model.fit.verilog``.
 """
 
@@ -16,13 +17,14 @@ from model.fit import verilog
 from model.hw import synth
 from model.hw.parts import part as get_part
 from model.render import pipeline
+from model.study.trade import unit_configs
 
 
 def units_used(cfg: pipeline.PipelineConfig) -> tuple[str, ...]:
-    """The units (``PipelineConfig`` field names) the design instantiates."""
-    if cfg.uses_specular_unit:
-        return ("divider", "gouraud", "specular")
-    return ("divider", "gouraud")
+    """The units (``PipelineConfig`` field names) the design instantiates: the trade study's
+    ``unit_configs``, named by field."""
+    field = {module: name for name, module in verilog.MODULE.items()}
+    return tuple(field[module] for module, _ in unit_configs(cfg))
 
 
 def design_files(cfg: pipeline.PipelineConfig, note: str = "") -> dict[str, bytes]:
