@@ -81,62 +81,75 @@ def _scaled_rows(arr: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return arr, norm
 
 
-@njit(cache=True)
-def _dot3(a: np.ndarray, b: np.ndarray) -> float:
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+# The geometry works on scalars (x, y, z tuples, no arrays): a numba kernel then allocates
+# nothing per line, and each step is the same float operation in the same order as the vector
+# formula its docstring gives, so the bits are those of that formula.
+
+
+@njit(cache=True, inline="always")
+def _dot(ax: float, ay: float, az: float, bx: float, by: float, bz: float) -> float:
+    return ax * bx + ay * by + az * bz
+
+
+@njit(cache=True, inline="always")
+def _cross(ax: float, ay: float, az: float, bx: float, by: float, bz: float):
+    return ay * bz - az * by, az * bx - ax * bz, ax * by - ay * bx
 
 
 @njit(cache=True)
-def _cross3(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return np.array(
-        [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
-    )
+def _perp(vx: float, vy: float, vz: float):
+    """A fixed unit vector perpendicular to v: v x e, e the coordinate axis least aligned with v
+    (the first of them on a tie)."""
+    ex, ey, ez = 1.0, 0.0, 0.0
+    if abs(vy) < abs(vx) and abs(vy) <= abs(vz):
+        ex, ey = 0.0, 1.0
+    elif abs(vz) < abs(vx) and abs(vz) < abs(vy):
+        ex, ez = 0.0, 1.0
+    px, py, pz = _cross(vx, vy, vz, ex, ey, ez)
+    norm = np.sqrt(_dot(px, py, pz, px, py, pz))
+    return px / norm, py / norm, pz / norm
 
 
 @njit(cache=True)
-def _perpendicular(v: np.ndarray) -> np.ndarray:
-    """A fixed unit vector perpendicular to v: v x e, e the coordinate axis least aligned with v."""
-    e = np.zeros(3)
-    e[int(np.argmin(np.abs(v)))] = 1.0
-    p = _cross3(v, e)
-    return p / np.sqrt(_dot3(p, p))
-
-
-@njit(cache=True)
-def _rotate_onto(src: np.ndarray, dst: np.ndarray, v: np.ndarray) -> np.ndarray:
+def _rotate(sx, sy, sz, dx, dy, dz, vx, vy, vz):
     """v rotated by the rotation taking unit vector src onto dst (Rodrigues, axis src x dst).
 
     R v = c v + s (k x v) + (1 - c) k (k . v).  src = dst: identity.  src = -dst (axis
-    undefined): the half turn about the fixed perpendicular ``_perpendicular(dst)``.
+    undefined): the half turn about the fixed perpendicular ``_perp(dst)``.
     """
-    axis = _cross3(src, dst)
-    s = np.sqrt(_dot3(axis, axis))
-    c = _dot3(src, dst)
+    ax, ay, az = _cross(sx, sy, sz, dx, dy, dz)
+    s = np.sqrt(_dot(ax, ay, az, ax, ay, az))
+    c = _dot(sx, sy, sz, dx, dy, dz)
     if s < _EPS:
         if c > 0:
-            return v.copy()
-        u = _perpendicular(dst)
-        return 2.0 * _dot3(u, v) * u - v
-    k = axis / s
-    return c * v + s * _cross3(k, v) + (1.0 - c) * _dot3(k, v) * k
+            return vx, vy, vz
+        ux, uy, uz = _perp(dx, dy, dz)
+        f = 2.0 * _dot(ux, uy, uz, vx, vy, vz)
+        return f * ux - vx, f * uy - vy, f * uz - vz
+    kx, ky, kz = ax / s, ay / s, az / s
+    cx, cy, cz = _cross(kx, ky, kz, vx, vy, vz)
+    f = (1.0 - c) * _dot(kx, ky, kz, vx, vy, vz)
+    return c * vx + s * cx + f * kx, c * vy + s * cy + f * ky, c * vz + s * cz + f * kz
 
 
 @njit(cache=True)
 def _path(n1: np.ndarray, n2: np.ndarray, h1: np.ndarray, h2: np.ndarray):
-    """(W, gamma) of ``half_vector_path`` for unit vectors."""
-    h2r = _rotate_onto(n2, n1, h2)
-    cg = _dot3(h1, h2r)
-    w = h2r - cg * h1
-    sg = np.sqrt(_dot3(w, w))
+    """(Wx, Wy, Wz, gamma) of ``half_vector_path`` for unit (3,) vectors."""
+    rx, ry, rz = _rotate(n2[0], n2[1], n2[2], n1[0], n1[1], n1[2], h2[0], h2[1], h2[2])
+    cg = _dot(h1[0], h1[1], h1[2], rx, ry, rz)
+    wx, wy, wz = rx - cg * h1[0], ry - cg * h1[1], rz - cg * h1[2]
+    sg = np.sqrt(_dot(wx, wy, wz, wx, wy, wz))
     if sg >= 1e-9:
-        return w / sg, np.arctan2(sg, cg)
+        return wx / sg, wy / sg, wz / sg, np.arctan2(sg, cg)
     if cg > 0:
-        return np.zeros(3), 0.0
-    w = n1 - _dot3(n1, h1) * h1
-    wn = np.sqrt(_dot3(w, w))
+        return 0.0, 0.0, 0.0, 0.0
+    d = _dot(n1[0], n1[1], n1[2], h1[0], h1[1], h1[2])
+    wx, wy, wz = n1[0] - d * h1[0], n1[1] - d * h1[1], n1[2] - d * h1[2]
+    wn = np.sqrt(_dot(wx, wy, wz, wx, wy, wz))
     if wn >= 1e-9:
-        return w / wn, np.pi
-    return _perpendicular(h1), np.pi
+        return wx / wn, wy / wn, wz / wn, np.pi
+    px, py, pz = _perp(h1[0], h1[1], h1[2])
+    return px, py, pz, np.pi
 
 
 @njit(cache=True)
@@ -174,9 +187,9 @@ def setup_row(
     """One row of ``setup_lines``' kernel (unit (3,) vectors, checked operands): ``out[:6]`` =
     gamma, lambda, A, C, dz, z0; public for fused renderers (the same code, so the same bits).
     Before the registers, C, dz and z0 take ``c_format.quantise`` and ``z_format.quantise``."""
-    w, gamma = _path(n1, n2, h1, h2)
-    cos1 = _dot3(n1, h1)
-    nw = _dot3(n1, w)
+    wx, wy, wz, gamma = _path(n1, n2, h1, h2)
+    cos1 = _dot(n1[0], n1[1], n1[2], h1[0], h1[1], h1[2])
+    nw = _dot(n1[0], n1[1], n1[2], wx, wy, wz)
     amp = min(1.0, np.hypot(cos1, nw))
     lam = np.arctan2(nw, cos1)
     if gamma / 2 - lam > np.pi:
@@ -193,10 +206,10 @@ def rotation_onto(src: np.ndarray, dst: np.ndarray) -> np.ndarray:
     """The rotation matrix taking unit vector src onto dst (Rodrigues, axis src x dst).
 
     src = dst: identity.  src = -dst (axis undefined): the half turn about the fixed
-    perpendicular ``_perpendicular(dst)``.  Its columns are ``_rotate_onto`` of the basis.
+    perpendicular ``_perp(dst)``.  Its columns are ``_rotate`` of the basis.
     """
     src, dst = np.asarray(src, dtype=np.float64), np.asarray(dst, dtype=np.float64)
-    return np.stack([_rotate_onto(src, dst, e) for e in np.eye(3)], axis=1)
+    return np.array([_rotate(*src, *dst, *e) for e in np.eye(3)]).T
 
 
 def half_vector_path(n1, n2, h1, h2) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
@@ -209,8 +222,8 @@ def half_vector_path(n1, n2, h1, h2) -> tuple[np.ndarray, np.ndarray, np.ndarray
     """
     n1u, n2u = _unit_vector("n1", n1), _unit_vector("n2", n2)
     h1u, h2u = _unit_vector("h1", h1), _unit_vector("h2", h2)
-    w, gamma = _path(n1u, n2u, h1u, h2u)
-    return n1u, h1u, w, float(gamma)
+    wx, wy, wz, gamma = _path(n1u, n2u, h1u, h2u)
+    return n1u, h1u, np.array([wx, wy, wz]), float(gamma)
 
 
 @dataclass(frozen=True)
