@@ -32,6 +32,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field, fields
 
 import numpy as np
+from numba import njit
 
 from model.render.raster import Raster, rasterise
 from model.render.scene import Material, Scene
@@ -171,6 +172,33 @@ class Frame:
         return self.obj_id >= 0
 
 
+_NO_SPEC = np.zeros(0)
+_NO_FRAME_SPEC = np.zeros((0, 0))
+
+
+@njit(cache=True)
+def _scatter(
+    y, x_start, offsets, vis, src_rgb, tri, obj, has_spec, src_spec, rgb, obj_id, tri_id, spec
+):
+    """The visible pixels of one object's spans into the frame: RGB, object and triangle ids,
+    the specular term (if ``has_spec``).  Returns how many were not covered yet."""
+    new = 0
+    for s in range(y.size):
+        row = y[s]
+        for p in range(offsets[s], offsets[s + 1]):
+            if vis[p]:
+                x = x_start[s] + p - offsets[s]
+                for c in range(3):
+                    rgb[row, x, c] = src_rgb[p, c]
+                if obj_id[row, x] < 0:
+                    new += 1
+                obj_id[row, x] = obj
+                tri_id[row, x] = tri[s]
+                if has_spec:
+                    spec[row, x] = src_spec[p]
+    return new
+
+
 def shade(
     raster: Raster, shader: Shader, *, skip_hidden_spans: bool = True, progress: bool = False
 ) -> Frame:
@@ -187,7 +215,7 @@ def shade(
     tri_id = np.full((cam.height, cam.width), -1, dtype=np.int64)
     specular = None
     counters: dict[str, float] = {}
-    spans_shaded = pixels_shaded = longest = 0
+    spans_shaded = pixels_shaded = longest = pixels_covered = 0
     triangles_shaded = 0
     n_values: set[int] = set()
     for orast in raster.objects:
@@ -203,17 +231,14 @@ def shade(
         material = scene.objects[sp.obj].material
         ctx = ShadeContext(scene, sp.obj, material, params, progress)
         res = _as_result(shader(sub, ctx), sub.n_pixels)
-        xs, ys = sub.pixel_xy()
-        at = (ys * cam.width + xs)[vis]  # flat pixel indices of the visible pixels
-        # Whole pixels (3 bytes as one void item) scatter faster than (N, 3) rows.
-        pixel = np.dtype((np.void, 3))
-        rgb.reshape(-1, 3).view(pixel)[at] = np.ascontiguousarray(res.rgb).view(pixel)[vis]
-        obj_id.reshape(-1)[at] = sp.obj
-        tri_id.reshape(-1)[at] = np.repeat(sub.tri, sub.lengths)[vis]
-        if res.specular is not None:
-            if specular is None:
-                specular = np.zeros((cam.height, cam.width))
-            specular.reshape(-1)[at] = np.asarray(res.specular, dtype=np.float64)[vis]
+        if res.specular is not None and specular is None:
+            specular = np.zeros((cam.height, cam.width))
+        has_spec = res.specular is not None
+        pixels_covered += _scatter(
+            sub.y, sub.x_start, sub.offsets, vis, np.ascontiguousarray(res.rgb), sub.tri, sp.obj,
+            has_spec, np.asarray(res.specular if has_spec else _NO_SPEC, dtype=np.float64),
+            rgb, obj_id, tri_id, specular if specular is not None else _NO_FRAME_SPEC,
+        )  # fmt: skip
         for k, v in res.counters.items():
             counters[k] = counters.get(k, 0) + v
         spans_shaded += len(sub)
@@ -229,7 +254,7 @@ def shade(
         spans=sum(len(o.spans) for o in raster.objects),
         spans_shaded=spans_shaded,
         pixels_shaded=pixels_shaded,
-        pixels_covered=int((obj_id >= 0).sum()),
+        pixels_covered=pixels_covered,
         longest_span=longest,
         n_values=tuple(sorted(n_values)),
         counters=counters,
