@@ -11,7 +11,7 @@ PYTEST := $(PY) -m pytest
 # Parallel pytest workers for the cocotb regressions (each bench builds in its own folder).
 JOBS   ?= auto
 
-.PHONY: setup tools demo test model-test sim lint roms synth bench trade pictures accuracy clean formal fit
+.PHONY: setup tools demo test test-slow check model-test sim lint roms synth bench trade pictures accuracy clean formal fit
 
 setup: $(STAMP) data/teapot.bez
 
@@ -31,8 +31,16 @@ tools:
 demo: setup tools
 	$(PY) -m model demo
 
-# All tests: the model tests and every cocotb regression.
+# The quick tier (issue 15: under 90 s on 2 cores): every test but the ones tests/tiers.py names
+# (long flows run whole, second simulators, place-and-route), which `make test-slow` runs;
+# `make check` runs both tiers.
 test: setup tools
+	$(PYTEST) -n $(JOBS) -m "not slow" tests
+
+test-slow: setup tools
+	$(PYTEST) -n $(JOBS) -m slow tests
+
+check: setup tools
 	$(PYTEST) -n $(JOBS) tests
 
 model-test: setup

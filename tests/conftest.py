@@ -1,15 +1,16 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Shared pytest set-up: the RTL regression summary; the seed variables checked once."""
+"""Shared pytest set-up: the two tiers (tests/tiers.py), the RTL regression summary, the seed
+variables checked once."""
 
 from __future__ import annotations
 
 from collections import defaultdict
 
+import pytest
+
 
 def pytest_configure(config) -> None:
     """Refuse a bad seed variable once, in one line, before any test runs."""
-    import pytest
-
     from sim.runner import env_seed
 
     for variable in ("BENCH_SEED", "SOAK_SEED"):
@@ -17,6 +18,23 @@ def pytest_configure(config) -> None:
             env_seed(variable)
         except ValueError as exc:
             raise pytest.UsageError(str(exc)) from None
+
+
+@pytest.hookimpl(tryfirst=True)
+def pytest_collection_modifyitems(config, items) -> None:
+    """Mark the tests ``tests/tiers.py`` names ``slow`` (before ``-m`` deselects); a name there
+    that matches no collected test of its file is an error."""
+    from tests.tiers import classify
+
+    slow, stale = classify([item.nodeid for item in items])
+    for item in items:
+        if item.nodeid in slow:
+            item.add_marker(pytest.mark.slow)
+    if stale:
+        raise pytest.UsageError(
+            "tests/tiers.py names tests that do not exist (renamed or removed?): "
+            + ", ".join(stale)
+        )
 
 
 def record_sim(request, records: list[dict]) -> None:
