@@ -59,3 +59,32 @@ def test_the_frame_clock_gains_docs_scenes_quotes() -> None:
         ("sphere", 10): 1.22,
         ("sphere", 1000): 1.22,
     }
+
+
+def test_gain_in_cpu_time_is_reported() -> None:
+    """Beside the wall-clock gain, the gain in the shading thread's CPU time (what other
+    processes on a busy machine do not change)."""
+    rows = adaptive.adaptive_gain("teapot", 40, ns=(100,), repeats=1)
+    assert rows[0]["cpu_c"] > 0 and rows[0]["cpu_g"] > 0
+    assert rows[0]["cpu_gain"] == rows[0]["cpu_c"] / rows[0]["cpu_g"]
+    assert "teapot: CPU time n >= 30:" in adaptive.format_gain(rows)
+
+
+def test_bench_reports_g_against_c_and_the_highlight_test() -> None:
+    """`python -m model bench` prints (g) / (c) per scene and size (wall and CPU time) and the
+    highlight test's time, numpy against the kernel."""
+    from model.study import bench
+
+    rows = [r for r in bench.ROWS if r[0] in ("exact", "numpy", "hybrid", "hybrid_mt", "adaptive")]
+    m = bench.measure(scenefile.builtin_scene("sphere", 32, 32), 1, rows)
+    assert m.spans > 0 and m.pixels > m.spans / 2
+    assert m.ratio("adaptive", "hybrid") == m.seconds["hybrid"] / m.seconds["adaptive"]
+    assert m.cpu_ratio("adaptive", "hybrid") > 0
+    head, rule, row = bench.format_adaptive([m]).splitlines()
+    assert head == "| scene | (g) / (c) at 32, wall | CPU |" and rule == "|---|---|---|"
+    assert row.startswith("| sphere | ") and row.count("|") == 4
+    assert "| px per span |" in bench.format_table([m], rows)
+    ((name, count, t_numpy, t_kernel),) = bench.highlight_test_times(
+        [scenefile.builtin_scene("quad", 32, 32)], repeats=1
+    )
+    assert name == "quad" and count == 2048 and t_numpy > 0 and t_kernel > 0

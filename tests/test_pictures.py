@@ -3,9 +3,10 @@
 
 docs/pictures.json, written by `make pictures`, records per picture the command that makes it
 and a SHA-256 of the numbers it plots (``images.data_digest``), not of its PNG bytes, which change
-with the matplotlib and zlib versions.  The demo sheet's numbers are recomputed here in-process at
-the recorded scene and size (about a second): any change to what it shows (a shading method, the
-renderer, the scene, a label, the error scale) fails the test until `make pictures` is rerun.
+with the Pillow, matplotlib and zlib versions.  The demo sheet's numbers are recomputed here
+in-process at the recorded scene and size (about a second): any change to what it shows (a
+shading method, the renderer, the scene, a label, the error scale, its ticks or colours) fails
+the test until `make pictures` is rerun.
 The trade figure's sweep takes half a minute, so its numbers are compared with the local sweep's
 (out/trade/results.csv, left by `make pictures` or `make trade`) when there is one of the same
 scenes and size; without one, only its record is checked.
@@ -16,6 +17,7 @@ from __future__ import annotations
 import json
 import re
 import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -163,3 +165,53 @@ def test_trade_figure_is_drawn_from_the_current_sweep(tmp_path: Path) -> None:
         f"{results} holds now ({now['rows']} rows): the sweep changed, {RERUN} (or "
         "out/trade holds another grid, such as --grid full: move it aside)"
     )
+
+
+def test_the_pictures_colours_and_ticks_are_matplotlibs() -> None:
+    """The pictures are drawn with Pillow (``canvas``), their colours and colour-bar ticks as
+    matplotlib draws them: the stored colour tables equal matplotlib's (``python -m
+    model.study.palette`` rewrites them), every level's colour on every scale (tops 1..255,
+    linear and symmetric-log) is ``cmap(norm(level))``, and the linear ticks are
+    ``MaxNLocator(nbins=5, integer=True)``'s."""
+    from matplotlib import colormaps, colors, ticker
+
+    from model.study import canvas, palette
+
+    assert np.array_equal(palette.INFERNO, palette.from_matplotlib("inferno"))
+    assert palette.tab10_from_matplotlib() == palette.TAB10
+    cmap = colormaps[images.ERROR_CMAP]
+    levels = np.arange(256.0)
+    for top in range(1, 256):
+        for log in (False, True):
+            if log:
+                norm = colors.SymLogNorm(linthresh=1.0, linscale=1.0, vmin=0.0, vmax=top, base=10)
+            else:
+                norm = colors.Normalize(vmin=0.0, vmax=top)
+            want = (cmap(norm(levels))[:, :3] * 255).astype(np.uint8)
+            assert np.array_equal(canvas.error_colours(levels, top, log), want), (top, log)
+        ticks = ticker.MaxNLocator(nbins=5, integer=True).tick_values(0, top)
+        assert canvas.tick_values(top, False) == [t for t in ticks if 0 <= t <= top], top
+    assert canvas.tick_values(170, True) == [0, 1, 2, 5, 10, 20, 50, 100, 170]
+    assert canvas.tick_values(22, True) == [0, 1, 2, 5, 10, 20]
+
+
+def test_the_demo_pictures_are_drawn_without_matplotlib(tmp_path: Path) -> None:
+    """`make demo` draws its heat-maps and sheet without importing matplotlib (it took most
+    of the demo's time): a fresh process writes them and has not imported it."""
+    script = (
+        "import sys, numpy as np\n"
+        "from model.study import images\n"
+        "ref = np.zeros((16, 16, 3), np.uint8); img = ref.copy(); img[3:5, 3:5] = 40\n"
+        f"out = {str(tmp_path)!r}\n"
+        "images.save_error_heatmaps([(out + '/e.png', img, '(b) m')], ref)\n"
+        "images.save_sheet(out + '/s.png', [('(b) m', img), ('(c) n', ref)], title='t',\n"
+        "                  error_reference=ref)\n"
+        "print('matplotlib' in sys.modules)\n"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, cwd=ROOT, timeout=300
+    )
+    assert done.returncode == 0, done.stderr[-2000:]
+    assert done.stdout.split() == ["False"]
+    for name in ("e.png", "s.png"):
+        assert images.load_png(tmp_path / name).shape[0] > 16

@@ -3,12 +3,14 @@
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from model.render import reference, scenefile
+from model.render import highlight, reference, scenefile
 from model.render.raster import rasterise
 from model.render.reference import (
     highlight_threshold,
@@ -19,6 +21,7 @@ from model.render.reference import (
 from model.render.scene import Camera, Light, Material, Mesh, Scene, SceneObject
 from model.render.shade import ShadeContext, render, shade
 from model.render.vectors import LightingParams, slerp
+from model.study.adaptive import with_shininess
 
 
 def test_quantise_rounds_half_up_and_saturates() -> None:
@@ -243,3 +246,127 @@ def test_highlight_threshold() -> None:
     assert highlight_threshold(0.0, 1.0) == float("inf")
     with pytest.raises(ValueError, match="k_s = 2"):
         highlight_threshold(2, 1.0)
+
+
+# ------------------------------------------------------------------------------------------------
+# the highlight test's kernel (model.render.highlight): numpy's decisions, bit for bit
+
+
+def _variants(sc: Scene):
+    """The scene, and the scene with the other kind of H: a point light and a local viewer
+    for a constant-H scene, a directional light and a viewer at infinity otherwise."""
+    yield sc
+    if sc.light.kind == "directional":
+        light = Light("point", position=(2.0, -3.0, 4.0), intensity=sc.light.intensity)
+        yield dataclasses.replace(sc, light=light, viewer="local")
+    else:
+        light = Light("directional", direction=(0.3, -0.4, 0.866), intensity=sc.light.intensity)
+        yield dataclasses.replace(sc, light=light, viewer="infinite")
+
+
+@pytest.mark.parametrize("name", scenefile.SCENE_NAMES)
+def test_highlight_kernel_decides_as_numpy_on_every_builtin_scene(name) -> None:
+    """Every triangle of every built-in scene, under both kinds of H, at n from 1 to 1000,
+    thresholds from 0.05 to 200 levels and with back faces flipped or not: the same bools."""
+    for sc in _variants(scenefile.builtin_scene(name, 96, 96)):
+        for n in (sc.objects[0].material.n, 1, 7, 1000):
+            scene_n = with_shininess(sc, n)
+            for levels in (0.05, 0.5, 5.0, 200.0):
+                for cull in (True, False):
+                    want = reference.object_highlight_flags(scene_n, 0, levels, cull)
+                    got = highlight.object_highlight_flags(scene_n, 0, levels, cull)
+                    assert np.array_equal(got, want), (name, sc.light.kind, n, levels, cull)
+        # the pipeline's call: one flag per span, each drawn triangle tested once
+        spans = rasterise(sc).objects[0].spans
+        per_span, flagged = highlight.span_highlight_flags(sc, spans.tri, 0, 0.5)
+        want = reference.object_highlight_flags(sc, 0, 0.5, triangles=spans.tri)
+        assert np.array_equal(per_span, want)
+        assert flagged == np.count_nonzero(reference.object_highlight_flags(sc, 0)[
+            np.unique(spans.tri)])  # fmt: skip
+
+
+def _random_triangles(rng: np.random.Generator, count: int, spread: float) -> np.ndarray:
+    """(count, 3, 3) unit normals: three corners within about ``spread`` radians of a random
+    direction (independent directions for spread >= 3)."""
+    centre = _unit(rng.normal(size=(count, 1, 3)))
+    if spread >= 3:
+        return _unit(rng.normal(size=(count, 3, 3)))
+    return _unit(centre + spread * rng.normal(size=(count, 3, 3)))
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_highlight_kernel_decides_as_numpy_on_random_normals(seed) -> None:
+    rng = np.random.default_rng(seed)
+    for spread in (1e-3, 0.05, 0.3, 1.0, 3.0):
+        nn = _random_triangles(rng, 4000, spread)
+        h_const = _unit(rng.normal(size=3))
+        # per-vertex H: near a common direction (a point light), or random
+        h_vertex = _unit(h_const + (0.05 if seed % 2 else 1.0) * rng.normal(size=(4000, 3, 3)))
+        for n in (1, 3, 40, 1000):
+            for thr in (1e-6, 0.002, 0.3, 0.999999, 1.0, 1.5):
+                for h in (h_const, h_vertex):
+                    want = triangle_may_show_highlight(nn, h, n, thr)
+                    got = highlight.triangle_may_show_highlight(nn, h, n, thr)
+                    assert np.array_equal(got, want), (seed, spread, n, thr, h.shape)
+
+
+def test_highlight_kernel_decides_as_numpy_on_the_edge_cases(monkeypatch) -> None:
+    """H on a corner, on an edge, at the centre, opposite; flat, half-flat, antipodal and
+    coplanar corners; determinants at numpy's 1e-12 cut (where the kernel's triple products
+    and LAPACK may disagree: it asks numpy, and that path is taken); thresholds whose angle is
+    0 (threshold 1) or just above."""
+    rng = np.random.default_rng(5)
+    base = _random_triangles(rng, 300, 0.2)
+    cases, hs = [], []
+    for tri in base:
+        mid = _unit(tri[0] + tri[1])
+        centre = _unit(tri.sum(axis=0))
+        for h in (tri[0], tri[2], mid, centre, -centre, _unit(mid + 1e-9 * centre)):
+            cases.append(tri)
+            hs.append(h)
+        flat = np.tile(tri[0], (3, 1))
+        half = np.stack([tri[0], tri[0], tri[1]])
+        opposite = np.stack([tri[0], -tri[0], tri[1]])
+        ring = _unit(np.stack([tri[0], tri[1], tri[0] + tri[1]]))  # coplanar with the origin
+        for odd in (flat, half, opposite, ring):
+            for h in (tri[0], mid, centre):
+                cases.append(odd)
+                hs.append(h)
+    # thin triangles: det = sin^2(e) about 1e-12 at e = 1e-6, on both sides of the cut
+    for e in np.linspace(0.95e-6, 1.05e-6, 41):
+        thin = np.array([[1.0, 0, 0], [np.cos(e), np.sin(e), 0], [np.cos(e), 0, np.sin(e)]])
+        for h in (_unit([1.0, e / 3, e / 3]), _unit([1.0, -e, e / 2]), thin[1]):
+            cases.append(_unit(thin))
+            hs.append(h)
+    nn = np.array(cases)
+    hv = np.repeat(np.array(hs)[:, None, :], 3, axis=1)  # per vertex, all three equal
+    asked = []
+    numpy_test = highlight.reference_triangle_test
+
+    def counting(*args):
+        asked.append(len(args[0]))
+        return numpy_test(*args)
+
+    monkeypatch.setattr(highlight, "reference_triangle_test", counting)
+    for n in (1, 2, 50, 1000):
+        for thr in (1.0, 1.0 - 1e-15, 0.9999999, 0.5, 1e-3):
+            for h in (np.array(hs), hv):
+                for t in range(0, len(nn), 997):  # constant H: one H at a time, many triangles
+                    pick = slice(None) if h.ndim == 3 else slice(t, t + 997)
+                    hh = h[pick] if h.ndim == 3 else h[t]
+                    want = triangle_may_show_highlight(nn[pick], hh, n, thr)
+                    got = highlight.triangle_may_show_highlight(nn[pick], hh, n, thr)
+                    assert np.array_equal(got, want), (n, thr, h.ndim, t)
+                    if h.ndim == 3:
+                        break
+    assert asked, "no triangle was unsure: the thin cases no longer reach numpy's cut"
+
+
+def test_highlight_kernel_bad_input() -> None:
+    with pytest.raises(ValueError, match="normals shape"):
+        highlight.triangle_may_show_highlight(np.eye(3), [0, 0, 1.0], 10, 0.1)
+    with pytest.raises(ValueError, match=r"threshold = 0\.0 is out of range"):
+        highlight.triangle_may_show_highlight(np.eye(3)[None], [0, 0, 1.0], 10, 0.0)
+    sc = scenefile.builtin_scene("sphere", 32, 32)
+    with pytest.raises(ValueError, match="triangle index 99999 is out of range"):
+        highlight.span_highlight_flags(sc, np.array([0, 99999]))

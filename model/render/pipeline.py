@@ -46,7 +46,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from model.render import fused
-from model.render.reference import object_diffuse_flags, object_highlight_flags
+from model.render.highlight import span_highlight_flags
+from model.render.reference import object_diffuse_flags
 from model.render.shade import ShadeContext, ShadeResult
 from model.render.spans import Spans
 from model.render.vectors import lighting_vectors
@@ -282,15 +283,14 @@ def _drawn_triangle_flags(spans: Spans, mode: str, always: str, never: str, test
 
 
 def _spans_through_specular_unit(spans: Spans, ctx: ShadeContext, cfg: PipelineConfig):
-    return _drawn_triangle_flags(
-        spans,
-        cfg.specular_mode,
-        "unit",
-        "vertex",
-        lambda drawn: object_highlight_flags(
-            ctx.scene, obj=ctx.obj, levels=cfg.highlight_levels, triangles=drawn
-        ),
+    """The highlight test's flag per span: ``highlight.span_highlight_flags`` (the kernel,
+    ``reference.object_highlight_flags``' decisions) tests each drawn triangle once."""
+    if cfg.specular_mode != "adaptive":
+        return np.full(len(spans), cfg.specular_mode == "unit", dtype=bool)
+    flags, _ = span_highlight_flags(
+        ctx.scene, spans.tri, obj=ctx.obj, levels=cfg.highlight_levels, params=ctx.lighting
     )
+    return flags
 
 
 def _spans_with_diffuse_unit(spans: Spans, ctx: ShadeContext, cfg: PipelineConfig):

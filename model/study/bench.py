@@ -1,32 +1,36 @@
 # SPDX-License-Identifier: Apache-2.0
 """``python -m model bench``: the bit-exact pipeline's speed against float shaders, in one run.
 
-Every scene is rasterised once per size; each shader then shades it (a warm-up, then the best
-of ``repeats`` timed runs of ``shade.shade``: the shading only, frame fill and scatter
-included, the rasterisation not).  Rows: (a) exact float Blinn and (b) Phong (numba kernels),
-``numpy_blinn`` (a plain vectorised numpy float Blinn-Phong: what a user would write instead),
-the hybrid (c) and the adaptive (g) pipelines on one core (the fused kernel), the same over
-numba's threads, and (c) through the units' batched calls (``unit_shader(cfg, "units")``, the
-reference path the fused one is tested against).  The ratios are what to compare: absolute
-speeds vary with the machine and its load.  Owns ``numpy_blinn``, ``measure``, ``format_table``,
-``targets`` and ``main``.  May import numpy and ``model.render``.
+Every scene is rasterised once per size; each shader then shades it (a warm-up, then the best of
+``repeats`` timed runs of ``shade.shade``, the rows taking turns: the shading only, frame fill
+and scatter included, the rasterisation not).  Rows: (a) exact float Blinn and (b) Phong (numba
+kernels), ``numpy_blinn`` (a plain vectorised numpy float Blinn-Phong: what a user would write
+instead), the hybrid (c) and the adaptive (g) pipelines on one core (the fused kernel), the same
+over numba's threads, and (c) through the units' batched calls (``unit_shader(cfg, "units")``,
+the reference path the fused one is tested against).  The ratios are what to compare: absolute
+speeds vary with the machine and its load.  ``format_adaptive`` prints (g) against (c) per scene
+and size.  Owns ``numpy_blinn``, ``measure``, ``format_table``, ``format_adaptive``, ``targets``
+and ``main``.  May import numpy and ``model.render``.
 """
 
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from model.render import pipeline, raster, reference, scenefile, shade
+from model.render.highlight import object_highlight_flags as fast_flags
 from model.render.scene import Scene
 from model.render.shade import ShadeContext, ShadeResult
 from model.render.spans import Spans
 from model.render.vectors import LIGHT_DIRECTIONAL
 
 SIZES = (64, 512, 1024)
+THREAD_REST = 0.05  # seconds after the threaded rows (``measure``)
 
 
 def _unit(v: np.ndarray) -> np.ndarray:
@@ -87,6 +91,8 @@ class Measurement:
     size: int
     pixels: int
     seconds: dict[str, float]
+    spans: int = 0
+    cpu: dict[str, float] | None = None  # best CPU seconds of the calling thread, per row
 
     def mpx(self, row: str) -> float:
         """Shaded megapixels per second of ``row``."""
@@ -96,34 +102,78 @@ class Measurement:
     def ratio(self, row: str, to: str) -> float:
         return self.seconds[to] / self.seconds[row] if self.seconds[row] > 0 else math.inf
 
+    def cpu_ratio(self, row: str, to: str) -> float:
+        """``ratio`` in the calling thread's CPU time (not slowed by other processes; only for
+        rows on one thread)."""
+        cpu = self.cpu or {}
+        if row not in cpu or to not in cpu:
+            return math.nan
+        return cpu[to] / cpu[row] if cpu[row] > 0 else math.inf
+
 
 def measure(the_scene: Scene, repeats: int, rows=ROWS) -> Measurement:
-    """Rasterise once, then every row's best shading time of ``repeats`` (after a warm-up)."""
+    """Rasterise once, then every row's best shading time of ``repeats`` (after a warm-up).
+    The rows take turns within each repeat, so that a change in the machine's load falls on
+    every row alike (the ratios are what to compare); the rows on numba's threads (``_mt``)
+    go last, then a pause of ``THREAD_REST`` s: their idle OpenMP workers spin for a while
+    after a parallel region and would slow down the row timed next (measured: (g) after a
+    threaded row took twice its time on 2 cores)."""
     frame_raster = raster.rasterise(the_scene)
-    seconds, pixels = {}, 0
-    for name, _, shader in rows:
+    seconds, pixels, spans = dict.fromkeys((name for name, _, _ in rows), math.inf), 0, 0
+    cpu = dict(seconds)
+    order = sorted(rows, key=lambda row: row[0].endswith("_mt"))  # stable: threads last
+    for _, _, shader in order:
         shade.shade(frame_raster, shader)  # warm-up: numba compiles or loads its cache
-        best = math.inf
-        for _ in range(max(1, repeats)):
+    time.sleep(THREAD_REST)
+    for _ in range(max(1, repeats)):
+        for name, _, shader in order:
+            began = time.thread_time()
             frame = shade.shade(frame_raster, shader)
-            best = min(best, frame.stats.shade_seconds)
-            pixels = frame.stats.pixels_shaded
-        seconds[name] = best
-    return Measurement(the_scene.name, the_scene.camera.width, pixels, seconds)
+            cpu[name] = min(cpu[name], time.thread_time() - began)
+            seconds[name] = min(seconds[name], frame.stats.shade_seconds)
+            pixels, spans = frame.stats.pixels_shaded, frame.stats.spans_shaded
+        time.sleep(THREAD_REST)
+    return Measurement(the_scene.name, the_scene.camera.width, pixels, seconds, spans, cpu)
 
 
 def format_table(runs: list[Measurement], rows=ROWS) -> str:
     """The markdown table: per scene and size, each row's Mpx/s and its ratios."""
     lines = [
-        "| scene | size | shaded px | method | Mpx/s | vs (a) exact | vs numpy Blinn |",
-        "|---|---|---|---|---|---|---|",
+        "| scene | size | shaded px | px per span | method | Mpx/s | vs (a) exact "
+        "| vs numpy Blinn | vs (c) hybrid |",
+        "|---|---|---|---|---|---|---|---|---|",
     ]
     for m in runs:
+        per_span = f"{m.pixels / m.spans:.1f}" if m.spans else "-"
         for name, label, _ in rows:
             lines.append(
-                f"| {m.scene} | {m.size} | {m.pixels:,} | {label} | {m.mpx(name):.2f} "
-                f"| {m.ratio(name, 'exact'):.2f}x | {m.ratio(name, 'numpy'):.2f}x |"
+                f"| {m.scene} | {m.size} | {m.pixels:,} | {per_span} | {label} | {m.mpx(name):.2f} "
+                f"| {m.ratio(name, 'exact'):.2f}x | {m.ratio(name, 'numpy'):.2f}x "
+                f"| {m.ratio(name, 'hybrid'):.2f}x |"
             )
+    return "\n".join(lines)
+
+
+def format_adaptive(runs: list[Measurement]) -> str:
+    """(g) against (c) in software, one row per scene, one column per size: the speed of (g)
+    as a multiple of (c)'s (> 1: (g) is faster) in wall time (the table's) and in the thread's
+    CPU time (``shade.shade`` on one thread: what a busy machine does not change), from the
+    same runs as the table."""
+    sizes = sorted({m.size for m in runs})
+    lines = [
+        "| scene | " + " | ".join(f"(g) / (c) at {n}, wall | CPU" for n in sizes) + " |",
+        "|---|" + "---|---|" * len(sizes),
+    ]
+    for scene in dict.fromkeys(m.scene for m in runs):
+        by_size = {m.size: m for m in runs if m.scene == scene}
+        cells = [
+            f"{by_size[n].ratio('adaptive', 'hybrid'):.2f}x | "
+            f"{by_size[n].cpu_ratio('adaptive', 'hybrid'):.2f}x"
+            if n in by_size
+            else "- | -"
+            for n in sizes
+        ]
+        lines.append(f"| {scene} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
 
@@ -135,6 +185,8 @@ def targets(runs: list[Measurement]) -> list[str]:
         checks.append((f"{label} >= 10x (a) at 512 and 1024", row, "exact", 10.0, (512, 1024)))
         checks.append((f"{label} >= 3x (a) at 64", row, "exact", 3.0, (64,)))
     checks.append(("(c) hybrid >= 5x numpy float Blinn at 1024", "hybrid", "numpy", 5.0, (1024,)))
+    checks.append(("(g) adaptive faster than (c) at 512 and 1024", "adaptive", "hybrid", 1.0,
+                   (512, 1024)))  # fmt: skip
     out = []
     for text, row, to, goal, sizes in checks:
         got = [m.ratio(row, to) for m in runs if m.size in sizes]
@@ -150,8 +202,6 @@ def unit_calls(pixels: int = 1 << 20, line: int = 16, repeats: int = 3) -> dict[
     """Mpx/s of the public batched unit calls (``gouraud.shade_lines``, three channels as the
     pipeline calls it, and ``specular.shade_lines``) on ``pixels`` pixels in lines of ``line``
     pixels with random legal operands, the best of ``repeats`` calls after a warm-up."""
-    import time
-
     from model.units import gouraud, specular
 
     rng = np.random.default_rng(2026)
@@ -184,6 +234,30 @@ def unit_calls(pixels: int = 1 << 20, line: int = 16, repeats: int = 3) -> dict[
     return found
 
 
+def highlight_test_times(
+    scenes: list[Scene], repeats: int = 5
+) -> list[tuple[str, int, float, float]]:
+    """(scene, triangles, numpy seconds, kernel seconds): the host's highlight test over every
+    triangle of each scene's objects, ``reference.object_highlight_flags`` (numpy) against
+    ``highlight.object_highlight_flags`` (the kernel, the same bools), best of ``repeats``."""
+    found = []
+    for sc in scenes:
+        objects = range(len(sc.objects))
+        best = {}
+        for name, test in (("numpy", reference.object_highlight_flags), ("kernel", fast_flags)):
+            for o in objects:
+                test(sc, o)  # numba compiles or loads its cache on the first call
+            best[name] = math.inf
+            for _ in range(max(1, repeats)):
+                t = time.perf_counter()
+                for o in objects:
+                    test(sc, o)
+                best[name] = min(best[name], time.perf_counter() - t)
+        count = sum(len(o.mesh.triangles) for o in sc.objects)
+        found.append((sc.name, count, best["numpy"], best["kernel"]))
+    return found
+
+
 def main(
     sources: list[scenefile.SceneSource],
     sizes: list[int],
@@ -203,8 +277,15 @@ def main(
     print(f"== bench: {head}, best of {repeats} (shading only) ==")
     print("(the frame fill, the shader and the scatter into the frame; not the rasterisation)")
     print(format_table(runs))
+    print("\n== (g) adaptive against (c) hybrid in software (the same runs) ==")
+    print(format_adaptive(runs))
     print()
     print("\n".join(targets(runs)))
+    print("\n== the host's highlight test of (g), every triangle, best of 5 ==")
+    print("| scene | triangles | numpy ms | kernel ms | kernel speed-up |\n|---|---|---|---|---|")
+    scenes = [source.scene(sizes[0], sizes[0]) for source in sources]
+    for name, count, t_np, t_k in highlight_test_times(scenes):
+        print(f"| {name} | {count:,} | {1e3 * t_np:.2f} | {1e3 * t_k:.3f} | {t_np / t_k:.0f}x |")
     print("\n== the public batched unit calls, 1M pixels in lines of 16 (target: 250 Mpx/s) ==")
     for name, speed in unit_calls(repeats=repeats).items():
         print(f"{name}: {speed:.1f} Mpx/s ({'met' if speed >= 250 else 'not met'})")

@@ -1,14 +1,15 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Image output: PNG files (Pillow), error heat-maps and a labelled side-by-side sheet
-(matplotlib, Agg backend: no display needed), and the digest of what a picture plots.
+"""Image output: PNG files, error heat-maps and a labelled side-by-side sheet, all drawn with
+Pillow (``model.study.canvas``: no matplotlib on the demo's path; the colours, scales and ticks
+are matplotlib's), and the digest of what a picture plots.
 
 Every error heat-map has its own scale (0 to its own largest error, at least 1 level) and its own
 colour bar in 8-bit levels; ``log=True`` draws it on a symmetric-log scale (linear from 0 to 1
 level, then decades), so that the many pixels off by a level or two show next to the few large
-ones.  ``sheet_data`` is everything a sheet plots (the images, the error maps, their scales, the
-titles, the error distribution), ``data_digest`` a hash of it that does not depend on the
-matplotlib or PNG library versions: ``tests/test_pictures.py`` compares it with the one
-``make pictures`` recorded.
+ones.  ``sheet_data`` is everything a sheet plots (the images, the error maps, their scales and
+colour-bar ticks, the colour map, the titles, the error distribution), ``data_digest`` a hash
+of it that does not depend on the drawing or PNG library versions: ``tests/test_pictures.py``
+compares it with the one ``make pictures`` recorded.
 """
 
 from __future__ import annotations
@@ -21,9 +22,10 @@ from pathlib import Path
 
 import numpy as np
 
+from model.study import canvas, palette
+
 ERROR_CMAP = "inferno"
 ERROR_UNIT = "|error| (8-bit levels)"
-_LOG_TICKS = (0, 1, 2, 5, 10, 20, 50, 100, 200)
 
 
 def _rgb(image) -> np.ndarray:
@@ -41,7 +43,7 @@ def save_png(path: str | Path, image) -> Path:
 
     p = Path(path)
     p.parent.mkdir(parents=True, exist_ok=True)
-    Image.fromarray(_rgb(image), mode="RGB").save(p)
+    Image.fromarray(_rgb(image), mode="RGB").save(p, compress_level=3)
     return p
 
 
@@ -68,39 +70,6 @@ def error_top(err: np.ndarray, vmax: float | None = None) -> float:
     return float(vmax) if vmax is not None else max(1.0, float(np.max(err)))
 
 
-def error_norm(top: float, log: bool = False):
-    """0..``top`` levels: linear, or symmetric-log (linear up to 1 level, then decades)."""
-    from matplotlib import colors
-
-    if log:
-        return colors.SymLogNorm(linthresh=1.0, linscale=1.0, vmin=0.0, vmax=top, base=10)
-    return colors.Normalize(vmin=0.0, vmax=top)
-
-
-def _style_colorbar(bar, top: float, log: bool, fontsize: float) -> None:
-    from matplotlib import ticker
-
-    if log:
-        ticks = [t for t in _LOG_TICKS if t <= top]
-        if top >= 1.5 * ticks[-1]:
-            ticks.append(top)
-        bar.set_ticks(ticks)
-        bar.ax.yaxis.set_minor_locator(ticker.NullLocator())
-    else:
-        bar.ax.yaxis.set_major_locator(ticker.MaxNLocator(nbins=5, integer=True))
-    bar.ax.yaxis.set_major_formatter(ticker.FormatStrFormatter("%d"))
-    bar.ax.tick_params(labelsize=fontsize, length=2, pad=1)
-
-
-def _pyplot():
-    import matplotlib
-
-    matplotlib.use("Agg", force=False)
-    import matplotlib.pyplot as plt
-
-    return plt
-
-
 def save_error_heatmaps(
     items: Sequence[tuple[str | Path, np.ndarray, str]],
     reference,
@@ -108,48 +77,32 @@ def save_error_heatmaps(
     vmax: float | None = None,
     cmap: str = ERROR_CMAP,
     reference_label: str = "the reference",
+    errors: Sequence[np.ndarray] | None = None,
 ) -> list[Path]:
-    """One heat-map PNG per ``(path, image, title)`` of ``error_map(image, reference)``,
+    """One heat-map PNG per ``(path, image, title)`` of ``error_map(image, reference)``
+    (``errors``: those maps, already made, one per item: e.g. ``sheet_data``'s),
     titled ``title`` and "error against ``reference_label``: max N levels", each on its own scale
     (``error_top``; ``vmax`` fixes it for all) with its own colour bar in 8-bit levels, linear
-    or (``log``) symmetric-log.  One figure is drawn and reused: the same size and layout for
-    every map (a 256 x 256 map at one pixel per pixel), and quick."""
-    plt = _pyplot()
+    or (``log``) symmetric-log.  The same size and layout for every map (a 256 x 256 map at one
+    pixel per pixel)."""
     ref = _rgb(reference)
     h, w = ref.shape[:2]
-    pw, ph = 2.56 * w / max(h, w), 2.56 * h / max(h, w)  # inches at dpi 100
+    pw, ph = round(256 * w / max(h, w)), round(256 * h / max(h, w))
     lines = max((wrap_title(t, 44).count("\n") + 2 if t else 1) for _, _, t in items)
-    left, gap, bar_w, bar_txt, bottom = 0.1, 0.08, 0.12, 0.62, 0.08
-    top_txt = 0.12 + 0.16 * lines  # the title band: 9-point lines
+    left, gap, bar_w, bar_txt, bottom = 10, 8, 12, 62, 8
+    top_txt = 12 + 16 * lines  # the title band: 9-point lines
     fw, fh = left + pw + gap + bar_w + bar_txt, bottom + ph + top_txt
-    fig = plt.figure(figsize=(fw, fh), dpi=100)
-    ax = fig.add_axes((left / fw, bottom / fh, pw / fw, ph / fh))
-    ax.set_axis_off()
-    cax = fig.add_axes(((left + pw + gap) / fw, bottom / fh, bar_w / fw, ph / fh))
-    heading = fig.text(0.5, 1 - 0.06 / fh, "", ha="center", va="top", fontsize=9)
+    unit = ERROR_UNIT + (", log scale" if log else "")
     written = []
-    try:
-        im = bar = None
-        for path, image, title in items:
-            err = error_map(image, ref)
-            top = error_top(err, vmax)
-            norm = error_norm(top, log)
-            if im is None:
-                im = ax.imshow(err, cmap=cmap, norm=norm, interpolation="nearest")
-                bar = fig.colorbar(im, cax=cax)
-                bar.set_label(ERROR_UNIT + (", log scale" if log else ""), fontsize=8)
-            else:
-                im.set_data(err)
-                im.set_norm(norm)
-            _style_colorbar(bar, top, log, 7)
-            line = f"error against {reference_label}: max {int(err.max())} levels"
-            heading.set_text((wrap_title(title, 44) + "\n" if title else "") + line)
-            p = Path(path)
-            p.parent.mkdir(parents=True, exist_ok=True)
-            fig.savefig(p)
-            written.append(p)
-    finally:
-        plt.close(fig)
+    for i, (path, image, title) in enumerate(items):
+        err = error_map(image, ref) if errors is None else errors[i]
+        top = error_top(err, vmax)
+        pic = canvas.Canvas(fw, fh)
+        pic.paste(left, top_txt, _fit(canvas.error_colours(err, top, log, cmap), pw, ph))
+        pic.colorbar(left + pw + gap, top_txt, bar_w, ph, top, log, cmap, label=unit)
+        line = f"error against {reference_label}: max {int(err.max())} levels"
+        pic.text(fw / 2, 6, (wrap_title(title, 44) + "\n" if title else "") + line, 9, va="top")
+        written.append(pic.save(path))
     return written
 
 
@@ -250,10 +203,12 @@ def sheet_data(
         ref = _rgb(error_reference)
         data["reference"] = {"label": str(reference_label), "image": ref}
         data["log_error"] = bool(log_error)
+        data["error_colours"] = palette.table(ERROR_CMAP)  # the colour bars' 256 colours
         for panel in data["panels"]:
             err = error_map(panel["image"], ref).astype(np.uint8)
             panel["error"] = err
             panel["error_top"] = error_top(err)
+            panel["error_ticks"] = canvas.tick_values(panel["error_top"], bool(log_error))
             # Pixels with an error of at least L levels, L = 1..255 (the distribution chart).
             counts = np.bincount(err.ravel(), minlength=256)
             panel["at_least"] = counts[::-1].cumsum()[::-1][1:]
@@ -291,16 +246,15 @@ def save_sheet(
 
 def draw_sheet(path: str | Path, data: dict, columns: int = 3) -> Path:
     """Draw ``sheet_data``'s ``data`` (the layout of ``save_sheet``)."""
-    plt = _pyplot()
     panels = data["panels"]
     with_err = "reference" in data
     log = bool(data.get("log_error", False))
     cols = max(1, min(int(columns), len(panels)))
     rows = -(-len(panels) // cols)
-    # Layout in pixels (dpi 100): a PW x PH panel (the first image's aspect, 256 on its long
-    # side), title bands T1 (two lines) above an image and T2 above an error map; a cell is a
-    # panel, its colour bar and tick labels and a gap; the left column (reference, chart, note)
-    # is at least LW wide.
+    # Layout in pixels: a PW x PH panel (the first image's aspect, 256 on its long side), title
+    # bands T1 (two lines) above an image and T2 above an error map; a cell is a panel, its
+    # colour bar and tick labels and a gap; the left column (reference, chart, note) is at
+    # least LW wide.
     h0, w0 = panels[0]["image"].shape[:2]
     PW, PH = round(256 * w0 / max(h0, w0)), round(256 * h0 / max(h0, w0))
     T1, T2, M, GAP = 34, 18, 8, 14
@@ -311,49 +265,35 @@ def draw_sheet(path: str | Path, data: dict, columns: int = 3) -> Path:
     sup = 30 if data["title"] else 0
     width = M + left_w + cols * cell_w - GAP + M
     height = sup + rows * cell_h + M
-    fig = plt.figure(figsize=(width / 100, height / 100), dpi=100)
-
-    def axes(x: float, y_top: float, w: float, h: float):
-        """Axes at x (from the left), y_top (from the top), in pixels."""
-        return fig.add_axes((x / width, 1 - (y_top + h) / height, w / width, h / height))
-
-    def text(x: float, y_top: float, label: str, size: float) -> None:
-        """Text centred on x, its lines ending at y_top (pixels from the top)."""
-        fig.text(
-            x / width, 1 - y_top / height, label, ha="center", va="bottom", fontsize=size,
-            linespacing=1.1,
-        )  # fmt: skip
+    pic = canvas.Canvas(width, height)
 
     def show(x: float, y_top: float, rgb: np.ndarray) -> None:
-        """Pixels straight onto the figure (no axes: quick), centred in a PW x PH box."""
+        """Pixels at one pixel per pixel, centred in a PW x PH box."""
         img = _fit(rgb, PW, PH)
         h, w = img.shape[:2]
-        fig.figimage(img, x + (PW - w) // 2, height - y_top - (PH + h) // 2, origin="upper")
+        pic.paste(x + (PW - w) // 2, y_top + (PH - h) // 2, img)
 
-    cmap = plt.get_cmap(ERROR_CMAP)
     x0 = M + left_w
     for k, panel in enumerate(panels):
         r, c = divmod(k, cols)
         x, y = x0 + c * cell_w, sup + r * cell_h
-        text(x + PW / 2, y + T1 - 3, wrap_title(panel["label"]), 9)
+        pic.text(x + PW / 2, y + T1 - 3, wrap_title(panel["label"]), 9)
         show(x, y + T1, panel["image"])
         if not with_err:
             continue
         top = panel["error_top"]
-        norm = error_norm(top, log)
         ye = y + T1 + PH + T2
-        text(x + PW / 2, ye - 2, f"error: max {int(np.max(panel['error']))} levels", 8)
-        show(x, ye, (cmap(norm(panel["error"].astype(np.float64)))[..., :3] * 255).astype(np.uint8))
-        bar = fig.colorbar(_scalar_mappable(norm, cmap), cax=axes(x + PW + BAR_GAP, ye, BAR_W, PH))
-        _style_colorbar(bar, top, log, 7)
+        pic.text(x + PW / 2, ye - 2, f"error: max {int(np.max(panel['error']))} levels", 8)
+        show(x, ye, canvas.error_colours(panel["error"], top, log, ERROR_CMAP))
+        pic.colorbar(x + PW + BAR_GAP, ye, BAR_W, PH, top, log, ERROR_CMAP)
     if with_err:
         ref = data["reference"]
-        text(M + PW / 2, sup + T1 - 3, wrap_title(ref["label"]), 9)
+        pic.text(M + PW / 2, sup + T1 - 3, wrap_title(ref["label"]), 9)
         show(M, sup + T1, ref["image"])
         # The chart: under the reference, down to the end of the next row's image band.
         chart_h = (PH + T2 + T1 + PH) if rows >= 2 else PH
-        ax = axes(M + 44, sup + T1 + PH + T2 + 4, left_w - GAP - 44 - 8, chart_h - 40)
-        _distribution_chart(ax, panels)
+        box = (M + 44, sup + T1 + PH + T2 + 4, left_w - GAP - 44 - 8, chart_h - 40)
+        _distribution_chart(pic, box, panels)
         if rows >= 2:
             scale = "symmetric-log (linear to 1 level, then decades)" if log else "linear"
             note = (
@@ -362,23 +302,18 @@ def draw_sheet(path: str | Path, data: dict, columns: int = 3) -> Path:
                 f"{scale} scale with its own colour bar; black = no error. The chart above "
                 "compares the methods on one scale."
             )
-            fig.text(
-                (M + 4) / width,
-                1 - (sup + cell_h + T1 + PH + T2 + PH / 2) / height,
+            pic.text(
+                M + 4,
+                sup + cell_h + T1 + PH + T2 + PH / 2,
                 textwrap.fill(note, max(20, (left_w - GAP) // 7)),
-                fontsize=9,
+                9,
+                ha="left",
                 va="center",
-                linespacing=1.35,
+                spacing=1.35,
             )
     if data["title"]:
-        fig.suptitle(data["title"], fontsize=11, y=1 - 8 / height, va="top")
-    p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    try:
-        fig.savefig(p)
-    finally:
-        plt.close(fig)
-    return p
+        pic.text(width / 2, 8, data["title"], 11, va="top")
+    return pic.save(path)
 
 
 def _fit(rgb: np.ndarray, width: int, height: int) -> np.ndarray:
@@ -392,44 +327,23 @@ def _fit(rgb: np.ndarray, width: int, height: int) -> np.ndarray:
     return rgb[np.minimum(rows, h - 1)][:, np.minimum(cols, w - 1)]
 
 
-def _scalar_mappable(norm, cmap):
-    from matplotlib import cm
-
-    return cm.ScalarMappable(norm=norm, cmap=cmap)
-
-
-def _distribution_chart(ax, panels) -> None:
+def _distribution_chart(pic: canvas.Canvas, box: tuple, panels) -> None:
     """Pixels off by at least L levels against L, every panel (log-log)."""
     levels = np.arange(1, 256)
-    cmap = _pyplot().get_cmap("tab10")
+    curves = []
     for i, panel in enumerate(panels):
         n = panel["at_least"]
         if n[0] == 0:
             continue
         last = int(np.flatnonzero(n)[-1]) + 1
-        ax.step(
-            levels[:last],
-            n[:last],
-            where="post",
-            color=cmap(i % 10),
-            lw=1.0 + 1.2 * (len(panels) - 1 - i) / max(1, len(panels) - 1),  # equal curves show
-            label=_key(panel["label"]),
-        )
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlim(1, 256)
-    ax.set_xlabel("L (8-bit levels)", fontsize=8, labelpad=1)
-    ax.set_ylabel("pixels with error ≥ L", fontsize=8, labelpad=1)
-    ax.text(
-        0.5,
-        1.01,
+        width = 1.0 + 1.2 * (len(panels) - 1 - i) / max(1, len(panels) - 1)  # equal curves show
+        curves.append((_key(panel["label"]), levels[:last], n[:last], width, palette.TAB10[i % 10]))
+    canvas.step_chart(
+        pic,
+        box,
+        curves,
         "how many pixels are off by L or more",
-        fontsize=9,
-        ha="center",
-        va="bottom",
-        transform=ax.transAxes,
+        "L (8-bit levels)",
+        "pixels with error \u2265 L",
+        (1, 256),
     )
-    ax.tick_params(labelsize=7, length=2, pad=1)
-    ax.grid(True, which="major", alpha=0.3)
-    if ax.get_legend_handles_labels()[0]:
-        ax.legend(fontsize=7, loc="upper right", ncol=2, handlelength=1.2, columnspacing=0.8)

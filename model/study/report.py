@@ -145,6 +145,7 @@ def run_methods(
     frame_raster = raster.rasterise(the_scene)
     ref = shade.shade(frame_raster, reference.exact_blinn)
     highlight = metrics.highlight_mask(ref.specular)
+    ref_levels = ref.rgb.astype(np.float64)  # converted once: the metrics work in float64
     results = {}
     for name in tqdm(methods, desc=f"{scene_name} {size}x{size}", disable=not progress):
         shader = shader_for(name, configs.get(name))
@@ -157,7 +158,9 @@ def run_methods(
             name=name,
             label=METHOD_LABELS.get(name, name),
             frame=frame,
-            comparison=metrics.compare(frame.rgb, ref.rgb, highlight=highlight),
+            comparison=metrics.compare(
+                frame.rgb.astype(np.float64), ref_levels, highlight=highlight
+            ),
             seconds=best,
             table_bits=table_bits(name, configs.get(name)),
         )
@@ -257,18 +260,27 @@ def write_images(run: SceneRun, out_dir: Path, log_error: bool = False) -> list[
         images.save_png(out_dir / f"{run.scene_name}_{name}.png", r.frame.rgb)
         for name, r in run.results.items()
     ]
+    # The sheet's data holds every error map against (a): the heat-maps reuse them.
+    data = images.sheet_data(**sheet_args(run, log_error))
+    ref_name = next(iter(run.results))
+    others = [n for n in run.results if n != ref_name]
+    maps = {n: panel["error"] for n, panel in zip(others, data["panels"], strict=True)}
+    shown = [n for n in run.results if n != "exact"]
     written += images.save_error_heatmaps(
         [
-            (out_dir / f"{run.scene_name}_{name}_error.png", r.frame.rgb, r.label)
-            for name, r in run.results.items()
-            if name != "exact"
+            (
+                out_dir / f"{run.scene_name}_{n}_error.png",
+                run.results[n].frame.rgb,
+                run.results[n].label,
+            )
+            for n in shown
         ],
         run.reference.rgb,
         log=log_error,
         reference_label="(a)",
+        errors=[maps[n] for n in shown] if all(n in maps for n in shown) else None,
     )
     sheet = out_dir / f"{run.scene_name}_sheet.png"
-    data = images.sheet_data(**sheet_args(run, log_error))
     written.append(images.draw_sheet(sheet, data, columns=3))
     record = {"picture": sheet.name, **sheet_record(run, log_error, data)}
     sheet.with_suffix(".json").write_text(json.dumps(record, indent=2) + "\n")
@@ -349,7 +361,8 @@ def record_pictures(
         "about": (
             "Every picture README.md and docs/ show: the command that makes it and a SHA-256 of "
             "the numbers it plots (model.study.images.data_digest), not of the PNG bytes, which "
-            "change with the matplotlib and zlib versions. tests/test_pictures.py checks them."
+            "change with the Pillow, matplotlib and zlib versions. tests/test_pictures.py checks "
+            "them."
         ),
         "pictures": {
             DEMO_SHEET: {
