@@ -7,10 +7,12 @@ and scatter included, the rasterisation not).  Rows: (a) exact float Blinn and (
 kernels), ``numpy_blinn`` (a plain vectorised numpy float Blinn-Phong: what a user would write
 instead), the hybrid (c) and the adaptive (g) pipelines on one core (the fused kernel), the same
 over numba's threads, and (c) through the units' batched calls (``unit_shader(cfg, "units")``,
-the reference path the fused one is tested against).  The ratios are what to compare: absolute
-speeds vary with the machine and its load.  ``format_adaptive`` prints (g) against (c) per scene
-and size.  Owns ``numpy_blinn``, ``measure``, ``format_table``, ``format_adaptive``, ``targets``
-and ``main``.  May import numpy and ``model.render``.
+the reference path the fused one is tested against), and the ceiling row (``ceiling``: the
+set-up's transcendental calls alone, the floor under any bit-exact (c)).  The ratios are what
+to compare: absolute speeds vary with the machine and its load.  ``format_adaptive`` prints (g)
+against (c) per scene and size.  Owns ``numpy_blinn``, ``measure``, ``format_table``,
+``format_adaptive``, ``targets`` and ``main``.  May import numpy, ``model.render`` and
+``model.study.ceiling``.
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ from model.render.scene import Scene
 from model.render.shade import ShadeContext, ShadeResult
 from model.render.spans import Spans
 from model.render.vectors import LIGHT_DIRECTIONAL
+from model.study import ceiling
 
 SIZES = (64, 512, 1024)
 THREAD_REST = 0.05  # seconds after the threaded rows (``measure``)
@@ -80,6 +83,7 @@ ROWS = (
         "(c) via batched unit calls",
         pipeline.unit_shader(pipeline.METHODS["hybrid"], "units"),
     ),
+    ("floor", "(c) ceiling: its set-up's floor", ceiling.setup_floor),
 )
 
 
@@ -281,6 +285,7 @@ def main(
     print(format_adaptive(runs))
     print()
     print("\n".join(targets(runs)))
+    print("\n".join(ceiling.ceiling_lines(runs)))
     print("\n== the host's highlight test of (g), every triangle, best of 5 ==")
     print("| scene | triangles | numpy ms | kernel ms | kernel speed-up |\n|---|---|---|---|---|")
     scenes = [source.scene(sizes[0], sizes[0]) for source in sources]
