@@ -2,8 +2,10 @@
 """The load/start/busy/valid protocol as a cycle-by-cycle model: what every output must be.
 
 One implementation of the contract (docs/architecture.md, rules 1-7), used by two benches:
-the cocotb ``ProtocolMonitor`` (sim/common.py) steps it with the inputs it samples at each
-rising edge and compares the DUT's outputs with its prediction; the vector soak (sim/soak.py)
+the cocotb ``ProtocolMonitor`` (sim/common.py) steps it with the inputs each rising edge
+sampled (as its driver wrote them) and compares the DUT's outputs with its prediction for every
+cycle, waking up only at an output change or where ``next_change`` says the prediction changes;
+the vector soak (sim/soak.py)
 steps it over a random stimulus and writes the prediction as the expected-response file of a
 plain Verilog bench.  Pure Python: no cocotb, no simulator.
 
@@ -208,7 +210,59 @@ class ProtocolModel:
         out.update(strobes)
         return out
 
+    def next_change(self) -> int | None:
+        """Edges from the last one stepped to the next one after which the prediction changes
+        by itself (the inputs not starting or resetting anything): 1 after a ``valid`` (it
+        falls, strobes return to 0), else the running job's next ``valid`` or the edge busy
+        falls; ``None`` when no job runs (every output holds).  The event-driven monitor
+        (sim/common.py) wakes up there even if the RTL shows no change."""
+        if self.last_result is not None:
+            return 1
+        job = self.job
+        if job is None:
+            return None
+        due = job.busy_cycles - job.offset
+        if job.seen < len(job.valid_offsets):
+            due = min(due, job.valid_offsets[job.seen] - job.offset)
+        return max(1, due)
+
     # ------------------------------------------------------------------ reporting
+    def mismatches(
+        self, expected: dict[str, int | None], got: dict[str, int | None], between: bool = False
+    ) -> list[str]:
+        """The errors of outputs ``got`` against ``expected`` (the last ``step``'s prediction;
+        ``between``: seen between two edges), each naming the cycle, the outputs, both values
+        and the inputs that reproduce the job.  Then the held outputs follow what the RTL shows,
+        so one wrong value is one error and a later change of it while held is another."""
+        diffs = compare(self.spec, expected, got)
+        if not diffs:
+            return []
+        errors = []
+        where = f"cycle {self.stats.cycles}" + (", between two edges" if between else "")
+        result = self.last_result
+        if result is not None and any(d.split(" ")[0] in result for d in diffs):
+            shown = {name: got[name] for name in result}
+            seen = self.last_job.seen - 1 if self.last_job is not None else 0
+            errors.append(
+                f"result {seen} mismatch at {where}: got {shown}, model {result}; "
+                f"reproduce with inputs {self.describe()}"
+            )
+            diffs = [d for d in diffs if d.split(" ")[0] not in result]
+        else:
+            held = [d for d in diffs if d.split(" ")[0] in self.held]
+            if held:
+                errors.append(
+                    f"{where}, between results: {'; '.join(held)} (held from the last "
+                    f"result); last job: inputs {self.describe()}"
+                )
+            diffs = [d for d in diffs if d.split(" ")[0] not in self.held]
+        if diffs:
+            errors.append(f"{where}: {'; '.join(diffs)}; job: inputs {self.describe()}")
+        for name in self.held:
+            if expected.get(name) is not None and got.get(name) is not None:
+                self.held[name] = expected[name] = got[name]
+        return errors
+
     def describe(self, job: Job | None = None) -> str:
         """The inputs that reproduce the latest (or the given) job, for a mismatch report."""
         job = job if job is not None else self.last_job

@@ -9,6 +9,8 @@ ran at least one test and all passed, and returns the bench's summary records (h
 were compared).  ``WAVES=1`` in the environment dumps an FST waveform next to the build.
 ``reset_all`` builds the unit with that RESET_ALL (docs/fpga.md, "Reset") and tells the bench
 (``BENCH_RESET_ALL``); the builds of RESET_ALL = 1 go to ``sim_build/<name>_reset_all``.
+cocotb rewrites the asserts of the bench modules only (``REWRITE_ASSERTION_FILES``; by default
+it rewrites every module the bench imports, numpy and numba included, at each start-up).
 
 Verilator through cocotb: cocotb 2.x's Verilator main (``verilator.cpp``) calls
 ``VerilatedVpi::evalNeeded`` and ``doInertialPuts``, which Verilator has from 5.036 on (cocotb's
@@ -49,6 +51,10 @@ def require_iverilog() -> None:
             "'apt-get install iverilog' (make test does this when run as root)"
         )
 
+
+# The modules whose asserts cocotb rewrites for its failure messages (pytest ``python_files``
+# patterns): the benches and their shared module, not numpy, numba and the model.
+REWRITE_ASSERTION_FILES = "tb_*.py common.py"
 
 SIMULATORS = ("icarus", "verilator")
 # The oldest Verilator cocotb 2.x's Verilator flow builds with (its Makefile.verilator VLT_MIN),
@@ -188,6 +194,11 @@ def run_bench(
         build_args=build_args,
     )
     env = {
+        # cocotb rewrites the asserts of every module it imports ("*.py") unless told which:
+        # only the benches' (seconds of start-up per bench run otherwise).
+        "COCOTB_REWRITE_ASSERTION_FILES": os.environ.get(
+            "COCOTB_REWRITE_ASSERTION_FILES", REWRITE_ASSERTION_FILES
+        ),
         "BENCH_CONFIG": json.dumps(cfg),
         "BENCH_SUMMARY": str(summary),
         "BENCH_RESET_ALL": str(reset_all),

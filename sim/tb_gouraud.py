@@ -22,7 +22,11 @@ from sim.common import (
     random_strobes,
 )
 
-RANDOM_LINES = 150
+# Random lines: the scoreboard on arbitrary operands and the three ways of loading them.  The
+# bulk random checking of the unit is the vector soak's (tests/test_soak.py
+# ``test_soak_every_output_every_cycle``, sim/soak.py: 100 000 cycles of the default
+# configuration, 20 000 of P = 2 and P = 16), with no Python in the loop.
+RANDOM_LINES = 40
 BUSY_LINES = 15
 BACK_TO_BACK = 20
 RESETS = 8
@@ -113,13 +117,15 @@ async def test_structure_matches_model(dut):
 @cocotb.test()
 async def test_random_lines(dut):
     """Random lines (printed seed): ramps with divider increments, small and any increments;
-    loads before the start, loads in the start cycle (old values run), back-to-back starts."""
+    loads before the start, loads in the start cycle (old values run), back-to-back starts
+    (the first three lines take one way each, whatever the seed; the vector soak carries the
+    bulk random checking)."""
     tb = GouraudTB(dut)
     await tb.reset()
     rng = bench_rng("random")
-    for _ in range(RANDOM_LINES):
+    for i in range(RANDOM_LINES):
         i0, di, length = tb.random_line(rng)
-        mode = rng.random()
+        mode = (0.0, 0.8, 0.9)[i] if i < 3 else rng.random()
         if mode < 0.7:
             await tb.line(i0, di, length)
         elif mode < 0.85:

@@ -63,6 +63,8 @@ def test_bench_finds_the_div_zero_leak(request) -> None:
     assert errors.get("random_strobes", 0) > 0 and errors.get("write_in_start_cycle", 0) > 0, (
         records
     )
+    first = [e for r in records for e in r["first_errors"]]
+    assert first and all("div_zero" in e for e in first), first
 
 
 def test_stuck_busy_fails_instead_of_hanging(request) -> None:
@@ -81,6 +83,32 @@ def test_stuck_busy_fails_instead_of_hanging(request) -> None:
         expect_failure=True,
     )
     assert records == [], records  # the test failed before it could finish its summary
+
+
+def test_bench_finds_a_one_cycle_glitch_between_events(request) -> None:
+    """div_zero flips for one cycle in the middle of each division and back (the saved mutant
+    ``divider_shift_div_zero_glitch``): in that cycle the model predicts no change, so only
+    the output's own value change wakes the event-driven monitor, which must report it as a
+    held flag that changed between results, with the job's inputs."""
+    cfg = divider.DEFAULT
+    params = hdl_parameters(cfg, ROM_FILE=divider.rom_path(cfg))
+    records = run_bench(
+        "divider_shift",
+        "sim.tb_divider",
+        "divider_mutant_div_zero_glitch",
+        params,
+        cfg,
+        testcase="test_extremes",
+        rtl=mutants.build("divider_shift_div_zero_glitch", SIM_BUILD / "mutants"),
+        expect_failure=True,
+    )
+    assert len(records) == 1 and records[0]["errors"] > 0, records
+    # A division of two or more busy cycles glitches in a cycle between results (k = 0 and 1
+    # take one busy cycle: there it lands on the result and is a result mismatch).
+    first = records[0]["first_errors"]
+    assert all("div_zero" in e and ", k=" in e for e in first), first
+    assert any("between results: div_zero = 1, expected 0" in e for e in first), first
+    assert records[0]["wakes"] < records[0]["cycles"], records  # event-driven, not per cycle
 
 
 def test_a_bad_sim_is_refused_in_one_line(monkeypatch, tmp_path) -> None:

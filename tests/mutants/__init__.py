@@ -12,6 +12,9 @@ is no longer in the RTL exactly once, ``build`` fails instead of testing a stale
   naming div_zero.
 * ``divider_shift_busy_stuck``: busy never falls once a division starts.  The cocotb bench
   must fail on it in bounded time (the watchdog of ``ProtocolMonitor.wait_idle``), not hang.
+* ``divider_shift_div_zero_glitch``: div_zero flips for one cycle in the middle of a division
+  (the second busy cycle) and back, a cycle in which the model predicts no change: the
+  event-driven monitor of the cocotb bench must still catch it, naming div_zero.
 """
 
 from __future__ import annotations
@@ -41,6 +44,14 @@ MUTANTS = {
         "            busy_reg <= 1'b0;\n",
         "            // The remaining reciprocal bits are all zero: the quotient is complete\n"
         "            busy_reg <= 1'b1;  // MUTANT: busy never falls\n",
+    ),
+    "divider_shift_div_zero_glitch": Mutant(
+        "divider_shift",
+        "assign div_zero = div_zero_reg;\n",
+        # One changed line: a register pair that is 1 in the second busy cycle only.
+        "reg glitch_1, glitch_2; always @(posedge clk) begin glitch_1 <= rst_n && start && "
+        "!busy_reg; glitch_2 <= rst_n && glitch_1 && busy_reg; end assign div_zero = "
+        "div_zero_reg ^ glitch_2;  // MUTANT: div_zero flips for one cycle mid-division\n",
     ),
 }
 
