@@ -4,13 +4,15 @@ command's options and examples.
 
 Commands:
   bench   pixels per second of the scene co-simulation: every span of a scene through the three
-          RTL units under the simulator SIM names (Icarus by default; ``sim.scene_cosim``), the
-          image compared with the model's byte for byte; then the vector mode: each unit's
-          plain Verilog vector bench (sim/vectors/tb_<unit>.v, no Python in the loop) replaying
-          a 200k-cycle stimulus of the committed sets' generator (``vector_sets.write_stimulus``,
+          RTL units' vector benches (``sim.scene_cosim``) under the simulator SIM names (unset:
+          ``verilator --binary`` when on PATH, else Icarus), the image compared with the
+          model's byte for byte, each step timed; then the vector mode: each unit's plain
+          Verilog vector bench (sim/vectors/tb_<unit>.v, no Python in the loop) replaying a
+          200k-cycle stimulus of the committed sets' generator (``vector_sets.write_stimulus``,
           in a temporary folder) under Icarus and ``verilator --binary``, build and run timed
-          apart, results per second per simulator (``make bench`` runs it after
-          ``python -m model bench``, the software speed)
+          apart, results per wall and per CPU second per simulator, and the soak path's steps
+          in cycles per second (``make bench`` runs it after ``python -m model bench``, the
+          software speed)
 
 Argument checks are this module's own (``sim`` sits below ``model.cli``): a bad value is refused
 in one line naming the argument, its value and what is allowed, exit status 2, before any work.
@@ -19,6 +21,7 @@ in one line naming the argument, its value and what is allowed, exit status 2, b
 from __future__ import annotations
 
 import argparse
+import os
 import shutil
 import sys
 import tempfile
@@ -79,8 +82,9 @@ def build_parser() -> argparse.ArgumentParser:
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="command")
     summary = (
-        "Pixels per second of the scene co-simulation: every span through the three RTL units "
-        "under SIM (icarus, the default, or verilator), the image compared with the model's "
+        "Pixels per second of the scene co-simulation: every span through the three RTL units' "
+        "vector benches under SIM (icarus or verilator; unset: verilator when on PATH, else "
+        "icarus), the image compared with the model's "
         "byte for byte; then the vector mode: each unit's plain Verilog vector bench replaying "
         "a generated stimulus under Icarus and verilator --binary, results per second."
     )
@@ -124,7 +128,7 @@ def build_parser() -> argparse.ArgumentParser:
         default=64,
         metavar="N",
         help=f"image width and height, 8..{scene.MAX_RESOLUTION} (default: 64; the "
-        "co-simulation shades tens of pixels a second, its three Icarus builds included)",
+        "co-simulation shades hundreds to thousands of pixels a second)",
     )
     p.add_argument(
         "--config",
@@ -167,6 +171,16 @@ def config_arg(text: str):
         raise argparse.ArgumentTypeError(" ".join(str(exc).split())) from None
 
 
+def scene_simulator(from_env) -> tuple[str, str]:
+    """The scene co-simulation's simulator and why: SIM when set (``from_env``, e.g.
+    ``sim.runner.simulator``, refuses a bad value), else Verilator when on PATH, else Icarus."""
+    if os.environ.get("SIM", "").strip():
+        return from_env(), "SIM chooses"
+    if shutil.which("verilator"):
+        return "verilator", "SIM unset and verilator on PATH; SIM=icarus chooses Icarus"
+    return "icarus", "SIM unset and no verilator on PATH"
+
+
 def bench(source: scenefile.SceneSource, size: int, config=None) -> int:
     """The scene through the RTL units and the model: speed, and whether the images are equal."""
     import numpy as np
@@ -179,22 +193,31 @@ def bench(source: scenefile.SceneSource, size: int, config=None) -> int:
             file=sys.stderr,
         )
         return 1
-    from sim import runner
+    from sim import runner, vector_run
 
     try:
-        sim = runner.simulator()
-        runner.require_simulator(sim)
+        sim, why = scene_simulator(runner.simulator)
+        tool = vector_run.tool_version(sim)
     except (ValueError, RuntimeError) as exc:
         print(f"{PROG} bench: error: {exc}", file=sys.stderr)
         return 1
     name, target = source.label, source.scene(size, size)
-    print(f"== python -m sim bench: {name}, {size} x {size}, three RTL units under {sim} ==")
-    cosim = cosimulate(target, size, config or "hybrid", tag="scene_bench")
+    print(
+        f"== python -m sim bench: {name}, {size} x {size}, three RTL units in vector mode under "
+        f"{sim} ({tool}; {why}), load average {_load()} =="
+    )
+    try:
+        cosim = cosimulate(target, size, config or "hybrid", tag="scene_bench", sim=sim)
+    except AssertionError as exc:
+        print(f"FAIL: {exc}")
+        return 1
     same = bool(np.array_equal(cosim.rtl_rgb, cosim.model_rgb))
     for unit in cosim.jobs:
+        steps = ", ".join(f"{k} {v:.2f}" for k, v in cosim.steps[unit].items())
+        cached = " (cached)" if cosim.cached[unit] else ""
         print(
             f"  {unit}: {cosim.jobs[unit]} jobs, {cosim.results[unit]} results compared with the "
-            f"model, {cosim.cycles[unit]} cycles, {cosim.seconds[unit]:.1f} s"
+            f"model, {cosim.cycles[unit]} cycles, {cosim.seconds[unit]:.1f} s: {steps} s{cached}"
         )
     if not same:
         ys, xs = np.nonzero(np.any(cosim.rtl_rgb != cosim.model_rgb, axis=2))
@@ -203,19 +226,48 @@ def bench(source: scenefile.SceneSource, size: int, config=None) -> int:
             f"MISMATCH: {ys.size} pixels differ, first at x = {x}, y = {y}: RTL "
             f"{cosim.rtl_rgb[y, x].tolist()}, model {cosim.model_rgb[y, x].tolist()}"
         )
+    builds = "reused (cached)" if all(cosim.cached.values()) else "included"
     print(
-        f"co-simulation ({name} {size} x {size}): {cosim.pixels} pixels in "
-        f"{sum(cosim.seconds.values()):.1f} s = {cosim.pixels_per_second:.0f} pixels/s "
-        f"(builds included); image equal to the model's: {same}"
+        f"co-simulation ({name} {size} x {size}, {sim}): {cosim.pixels} pixels in "
+        f"{cosim.wall_s:.1f} s end to end = {cosim.pixels_per_second:.0f} pixels/s (builds "
+        f"{builds}; the specular unit beside the divider and Gouraud units); image equal to the "
+        f"model's: {same}"
     )
     if source.kind == "builtin" and source.ref == "teapot" and size == 256 and config is None:
-        took = sum(cosim.seconds.values())
+        took = cosim.wall_s
         met = "met" if same and took < TEAPOT_TARGET_S else "not met"
         print(
             f"target: the teapot at 256 x 256 through the RTL, byte-equal, in under "
-            f"{TEAPOT_TARGET_S} s: {took:.1f} s ({met})"
+            f"{TEAPOT_TARGET_S} s: {took:.1f} s under {sim}, builds {builds} ({met})"
         )
     return 0 if same else 1
+
+
+def _load() -> str:
+    """The 1-, 5- and 15-minute load averages (other work on the machine), as text."""
+    try:
+        return " / ".join(f"{x:.2f}" for x in os.getloadavg())
+    except OSError:
+        return "unknown"
+
+
+def _soak_rates(cycles: int, prep: dict[str, dict[str, float]], rows: list) -> None:
+    """The soak path's steps (sim/soak.py run_soak, make test) in cycles per second."""
+    print(
+        "soak path (sim/soak.py run_soak: stimulus, protocol-model prediction and file in "
+        "Python, CPU seconds; then the replay), cycles per second of each step:"
+    )
+    head = ["unit", "stimulus", "predict", "write", "python"]
+    sims = sorted({sim for _, sim, *_ in rows})
+    head += [f"{sim} {kind}" for sim in sims for kind in ("wall", "cpu")]
+    print(f"{head[0]:<16} " + " ".join(f"{h:>14}" for h in head[1:]))
+    for unit, steps in prep.items():
+        cells = [cycles / max(steps[k], 1e-9) for k in ("stimulus", "predict", "write")]
+        cells.append(cycles / max(sum(steps.values()), 1e-9))
+        for sim in sims:
+            run = next(r for u, s, _, _, r in rows if u == unit and s == sim)
+            cells += [cycles / max(run.run_s, 1e-9), cycles / max(run.run_cpu_s, 1e-9)]
+        print(f"{unit:<16} " + " ".join(f"{c:>14,.0f}" for c in cells))
 
 
 def vector_bench(cycles: int, sims: tuple[str, ...] = VECTOR_SIMS) -> int:
@@ -233,15 +285,19 @@ def vector_bench(cycles: int, sims: tuple[str, ...] = VECTOR_SIMS) -> int:
     print(
         f"== vector mode: {cycles} cycles per unit (sim/vector_sets.py write_stimulus, seed "
         f"{vector_sets.SEED}), replayed by sim/vectors/tb_<unit>.v without Python: instances "
-        "RESET_ALL = 0 and 1, every output compared every cycle =="
+        f"RESET_ALL = 0 and 1, every output compared every cycle; load average {_load()} =="
     )
     rows, failed = [], []
+    prep: dict[str, dict[str, float]] = {}
     with tempfile.TemporaryDirectory(prefix="sim_bench_vectors_") as tmp:
         for unit, cfg in configs.items():
             t0 = time.monotonic()
             folder = Path(tmp) / unit
-            stats = vector_sets.write_stimulus(cfg, cycles, vector_sets.SEED, folder)
-            print(f"  {unit}: stimulus and model prediction in {time.monotonic() - t0:.1f} s")
+            folder.mkdir()
+            steps: dict[str, float] = {}
+            stats = vector_sets.write_stimulus(cfg, cycles, vector_sets.SEED, folder, steps)
+            prep[unit] = steps
+            print(f"  {unit}: stimulus, model prediction and file in {time.monotonic() - t0:.1f} s")
             for sim in found:
                 # Verilator's runs take a fraction of a second: the fastest of three counts
                 repeats = 3 if sim == "verilator" else 1
@@ -254,35 +310,34 @@ def vector_bench(cycles: int, sims: tuple[str, ...] = VECTOR_SIMS) -> int:
                     print(f"FAIL {unit} under {sim}: {run.mismatches} mismatches")
                     print(run.log[-3000:])
                 rows.append((unit, sim, cycles, stats.results_compared, run))
-    head = ("unit", "simulator", "cycles", "results", "build s", "run s", "results/s")
-    head += ("load s", "w/o load/s")
+    head = ("unit", "simulator", "cycles", "results", "build s", "run s", "cpu s")
+    head += ("results/s", "per cpu s", "read s")
     print(f"{head[0]:<16} {head[1]:<10} " + " ".join(f"{h:>10}" for h in head[2:]))
     rates = {}
     for unit, sim, n, results, run in rows:
         rate = results / run.run_s if run.run_s > 0 else 0.0
-        sim_s = run.run_s - run.load_s
-        # the difference of two timings: shown where it is a tenth of the run or more
-        bare = results / sim_s if run.load_s and sim_s >= 0.1 * run.run_s else None
-        rates[unit, sim] = (rate, bare)
+        cpu_rate = results / run.run_cpu_s if run.run_cpu_s > 0 else 0.0
+        rates[unit, sim] = (rate, cpu_rate)
         print(
             f"{unit:<16} {sim:<10} {n:>10} {results:>10} {run.build_s:>10.2f} "
-            f"{run.run_s:>10.3f} {rate:>10.0f} {run.load_s:>10.3f} "
-            + (f"{bare:>10.0f}" if bare else f"{'-':>10}")
-            + ("" if run.passed else "  FAILED")
+            f"{run.run_s:>10.3f} {run.run_cpu_s:>10.3f} {rate:>10.0f} {cpu_rate:>10.0f} "
+            f"{run.load_s:>10.3f}" + ("" if run.passed else "  FAILED")
         )
     print(
-        "results: the results the model predicts (each compared in both instances); run s: "
-        "the bench's whole run, $readmemh of its files included; load s: a bench that only "
-        "reads the same three files; w/o load/s: results / (run s - load s), where that "
-        "difference is a tenth of the run or more (else -); Verilator: fastest of 3 runs"
+        "results: the results the model predicts (each compared in both instances); run s: the "
+        "bench's whole run (wall), reading its vector file included; cpu s: the CPU seconds of "
+        "that run's simulator process (less sensitive to other load than the wall time); "
+        "results/s: results / run s; per cpu s: results / cpu s; read s: the wall time of a "
+        "bench that only reads the same file; Verilator: fastest of 3 runs; "
+        f"load average {_load()}"
     )
+    _soak_rates(cycles, prep, rows)
     unit, sim, target = VECTOR_TARGET
     if (unit, sim) in rates:
-        rate, bare = rates[unit, sim]
+        rate, cpu_rate = rates[unit, sim]
         verdict = ", ".join(
             f"{label} {value:,.0f} ({'met' if value >= target else 'NOT met'})"
-            for label, value in (("whole run", rate), ("without file reading", bare))
-            if value is not None
+            for label, value in (("per wall second", rate), ("per CPU second", cpu_rate))
         )
         print(f"target: {unit} under {sim} >= {target:,} results/s: {verdict}")
     if failed:

@@ -173,9 +173,7 @@ def simulate(set_name: str, target: str, reset_all: int, sim: str, netlist: Path
     top = f"tb_{unit}"
     params = {k: v for k, v in params.items() if not k.endswith("ROM_FILE") and k != "ALPHA"} | {
         "RESET_MODES": str(1 << reset_all),
-        "STIM_FILE": f'"{set_dir / "stim.hex"}"',
-        "EXPECT_FILE": f'"{set_dir / "expect.hex"}"',
-        "MASK_FILE": f'"{set_dir / "mask.hex"}"',
+        "VECTOR_FILE": f'"{set_dir / "vectors.bin"}"',
     }
     folder = netlist.parent / sim
     models = cell_models(target, netlist.parent.parent.parent) if CELLS[target] else None

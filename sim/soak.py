@@ -7,28 +7,29 @@ each write strobe and ``start`` at random, operand values from the extremes, val
 uniform ones, writes in the start cycle and in every busy cycle, and a short random reset now
 and then.  The protocol model (sim/protocol.py) predicts every output in every cycle.
 
-``run_soak(cfg, cycles, seed)`` writes the stimulus and the prediction as ``$readmemh`` files
-and replays them through the unit in a plain Verilog bench (sim/vectors/tb_<unit>.v, no
-Python in the loop; one instance with RESET_ALL = 0 and one with RESET_ALL = 1), which compares
-every output with the prediction in every cycle.  The same files, for a fixed seed, are the
-committed vector sets under sim/vectors/<set>/ (sim/vector_sets.py, ``make vectors``).  Each
-mismatch comes back decoded: the cycle, the output, the value, the model's value, and the
-operands of the job that reproduce it, with the seed that replays the whole run
-(``SOAK_SEED``).  The cocotb benches drive the same stimulus through their monitor.
+``run_soak(cfg, cycles, seed)`` writes the stimulus and the prediction as a binary vector file
+(one record per cycle: stimulus, expected outputs and their mask; ``write_vectors``, read by
+``$fread`` in sim/vectors/vector_loop.vh) and replays it through the unit in a plain Verilog
+bench (sim/vectors/tb_<unit>.v, no Python in the loop; one instance with RESET_ALL = 0 and one
+with RESET_ALL = 1), which compares every output with the prediction in every cycle.  The same
+file, for a fixed seed, is each committed vector set under sim/vectors/<set>/ (its
+``vectors.bin``; sim/vector_sets.py, ``make vectors``).  Each mismatch comes back decoded: the
+cycle, the output, the value, the model's value, and the operands of the job that reproduce
+it, with the seed that replays the whole run (``SOAK_SEED``).  The cocotb benches drive the
+same stimulus through their monitor.
 """
 
 from __future__ import annotations
 
 import random
 import re
-import shutil
-import subprocess
+import time
 from dataclasses import dataclass, field
 from importlib.resources import files
 from pathlib import Path
 
 from model.units.specular import N_MAX, SpecularConfig
-from sim import units
+from sim import units, vector_run
 from sim.protocol import Job, Port, ProtocolModel, Stats, UnitSpec, from_field, to_field
 
 SIM_DIR = Path(__file__).resolve().parent
@@ -165,25 +166,78 @@ def width(fields: list[tuple[str, Port]]) -> int:
     return sum(port.width for _, port in fields)
 
 
+Layout = list[tuple[str, int, int, int]]  # per field: name, shift, lowest legal value, bits
+
+
+def _layout(fields: list[tuple[str, Port]]) -> Layout:
+    out, shift = [], width(fields)
+    for name, port in fields:
+        shift -= port.width
+        lo = -(1 << (port.width - 1)) if port.signed else 0
+        out.append((name, shift, lo, port.width))
+    return out
+
+
+def _pack_fast(layout: Layout, values: dict[str, int | None]) -> tuple[int, int]:
+    """``pack`` with the layout worked out once (the same words, the same range check)."""
+    word = mask = 0
+    for name, shift, lo, bits in layout:
+        value = values.get(name)
+        if value is not None:
+            if not lo <= value < (1 << bits):
+                raise ValueError(f"{name} = {value} does not fit in {bits} bits")
+            word |= (value & ((1 << bits) - 1)) << shift
+            mask |= ((1 << bits) - 1) << shift
+    return word, mask
+
+
+def record_bytes(spec: UnitSpec) -> tuple[int, int]:
+    """(stimulus bytes, {mask, expect} bytes) of one record of the binary vector file."""
+    return -(-width(stim_fields(spec)) // 8), -(-2 * width(out_fields(spec)) // 8)
+
+
 def write_vectors(
-    spec: UnitSpec, stim: list[Inputs], expected: list[dict[str, int | None]], folder: Path
-) -> dict[str, Path]:
-    """stim.hex, expect.hex and mask.hex (one word per cycle) in ``folder``."""
-    folder.mkdir(parents=True, exist_ok=True)
+    spec: UnitSpec, stim: list[Inputs], expected: list[dict[str, int | None]], path: Path
+) -> Path:
+    """The binary vector file (sim/vectors/vector_loop.vh) at ``path``: per cycle the stimulus
+    word, then ``{mask, expect}``, each big-endian in whole bytes; returns ``path``."""
+    path.parent.mkdir(parents=True, exist_ok=True)
     sf, of = stim_fields(spec), out_fields(spec)
-    sd, od = -(-width(sf) // 4), -(-width(of) // 4)
-    paths = {k: folder / f"{k}.hex" for k in ("stim", "expect", "mask")}
-    with (
-        paths["stim"].open("w") as fs,
-        paths["expect"].open("w") as fe,
-        paths["mask"].open("w") as fm,
-    ):
-        for inputs, outputs in zip(stim, expected, strict=True):
-            fs.write(f"{pack(sf, inputs)[0]:0{sd}x}\n")
-            word, mask = pack(of, outputs)
-            fe.write(f"{word:0{od}x}\n")
-            fm.write(f"{mask:0{od}x}\n")
-    return paths
+    sb, ob = record_bytes(spec)
+    ow = width(of)
+    stim_layout, out_layout = _layout(sf), _layout(of)
+    # Many cycles repeat an earlier one (held inputs, a busy unit): each distinct pair of
+    # stimulus and outputs is packed once.
+    packed: dict[tuple, bytes] = {}
+    records = bytearray()
+    for inputs, outputs in zip(stim, expected, strict=True):
+        key = (*inputs.items(), None, *outputs.items())
+        record = packed.get(key)
+        if record is None:
+            stim_word = _pack_fast(stim_layout, inputs)[0]
+            word, mask = _pack_fast(out_layout, outputs)
+            record = ((stim_word << (8 * ob)) | (mask << ow) | word).to_bytes(sb + ob, "big")
+            packed[key] = record
+        records += record
+    path.write_bytes(bytes(records))
+    return path
+
+
+def read_vectors(spec: UnitSpec, path: Path) -> list[tuple[int, int, int]]:
+    """(stimulus, expect, mask) words of every record of a vector file (tests, reports)."""
+    sb, ob = record_bytes(spec)
+    ow = width(out_fields(spec))
+    data = path.read_bytes()
+    if len(data) % (sb + ob):
+        raise ValueError(
+            f"{path}: {len(data)} bytes is not a whole number of {sb + ob}-byte records"
+        )
+    out = []
+    for at in range(0, len(data), sb + ob):
+        stim = int.from_bytes(data[at : at + sb], "big")
+        rest = int.from_bytes(data[at + sb : at + sb + ob], "big")
+        out.append((stim, rest & ((1 << ow) - 1), rest >> ow))
+    return out
 
 
 # ---------------------------------------------------------------------- the Verilog replay
@@ -196,6 +250,8 @@ class SoakResult:
     mismatches: list[str] = field(default_factory=list)
     mismatch_count: int = 0
     log: str = ""
+    # seconds per step: stimulus, predict, write (CPU), build, replay (wall), replay_cpu
+    seconds: dict[str, float] = field(default_factory=dict)
 
     def summary(self) -> str:
         s = self.stats
@@ -214,15 +270,15 @@ MISMATCH = re.compile(
     r"got ([0-9a-fxz]+) expected ([0-9a-f]+) mask ([0-9a-f]+)$",
     re.I | re.M,
 )
-DONE = re.compile(r"^VECTORS (\d+) cycles (\d+) mismatches$", re.M)
+DONE = vector_run.DONE
 
 
-def iverilog_parameters(top: str, params: dict[str, object]) -> list[str]:
-    args = []
-    for key, value in params.items():
-        shown = f'"{value}"' if isinstance(value, str | Path) else str(int(value))
-        args.append(f"-P{top}.{key}={shown}")
-    return args
+def verilog_parameters(params: dict[str, object]) -> dict[str, str]:
+    """NAME -> Verilog value text: strings and paths in double quotes, the rest integers."""
+    return {
+        key: f'"{value}"' if isinstance(value, str | Path) else str(int(value))  # type: ignore[call-overload]
+        for key, value in params.items()
+    }
 
 
 def run_soak(
@@ -232,38 +288,34 @@ def run_soak(
     build_dir: Path,
     parameters: dict[str, object],
     rtl: Path | None = None,
+    sim: str = "icarus",
+    build_root: Path | None = None,
 ) -> SoakResult:
-    """Replay ``cycles`` random cycles through the RTL under Icarus; decode every mismatch.
+    """Replay ``cycles`` random cycles through the RTL under ``sim`` (Icarus by default, or
+    ``verilator``); decode every mismatch.  ``result.seconds`` times each step.
 
     ``parameters`` are the unit's Verilog parameters (sim.runner.hdl_parameters); ``rtl``
-    replaces ``rtl/<unit>.v`` (a saved mutant, to show the soak can fail).
+    replaces ``rtl/<unit>.v`` (a saved mutant, to show the soak can fail).  The bench is built
+    under ``build_root`` (default ``build_dir``; a build of the same configuration there is
+    reused, sim/vector_run.py).
     """
     spec = units.spec(cfg)
+    seconds = {}
+    t0 = time.process_time()
     stim = stimulus(cfg, cycles, seed)
+    t1 = time.process_time()
     pred = predict(cfg, stim)
-    files = write_vectors(spec, stim, pred.outputs, build_dir)
+    t2 = time.process_time()
+    vectors = write_vectors(spec, stim, pred.outputs, build_dir / "vectors.bin")
+    seconds.update(stimulus=t1 - t0, predict=t2 - t1, write=time.process_time() - t2)
     top = f"tb_{spec.toplevel}"
-    params = {
-        **parameters,
-        "CYCLES": cycles,
-        "STIM_FILE": str(files["stim"]),
-        "EXPECT_FILE": str(files["expect"]),
-        "MASK_FILE": str(files["mask"]),
-    }
-    iverilog = shutil.which("iverilog")
-    if iverilog is None:
-        raise RuntimeError("iverilog is not on PATH: install it with 'apt-get install iverilog'")
-    vvp = build_dir / "soak.vvp"
-    sources = [VECTOR_DIR / f"{top}.v", rtl or RTL_DIR / f"{spec.toplevel}.v"]
-    cmd = [iverilog, "-g2005", "-o", str(vvp), "-s", top, f"-I{VECTOR_DIR}"]
-    cmd += iverilog_parameters(top, params) + [str(s) for s in sources]
-    built = subprocess.run(cmd, capture_output=True, text=True, cwd=RTL_DIR)
-    if built.returncode != 0:
-        raise RuntimeError(f"iverilog failed on {top}:\n{built.stdout}{built.stderr}")
-    ran = subprocess.run(
-        ["vvp", "-n", str(vvp)], capture_output=True, text=True, cwd=RTL_DIR, timeout=600
-    )
-    log = ran.stdout + ran.stderr
+    root = build_root or build_dir
+    built = vector_run.build(spec.toplevel, verilog_parameters(parameters), sim, root, rtl)
+    if not built.ok:
+        raise RuntimeError(f"{sim} could not build {top}:\n{built.log}")
+    ran = vector_run.run(built, vectors, cycles, timeout=1800)
+    seconds.update(build=built.seconds, replay=ran.wall_s, replay_cpu=ran.cpu_s)
+    log = ran.log
     done = DONE.search(log)
     # The bench ends with a non-zero exit status after its count when anything mismatched.
     failed_clean = done is not None and int(done.group(2)) > 0
@@ -271,7 +323,7 @@ def run_soak(
         raise RuntimeError(
             f"{top} did not finish its {cycles} cycles (exit {ran.returncode}):\n{log}"
         )
-    result = SoakResult(spec.toplevel, seed, cycles, pred.stats, log=log)
+    result = SoakResult(spec.toplevel, seed, cycles, pred.stats, log=log, seconds=seconds)
     result.mismatch_count = int(done.group(2))
     of = out_fields(spec)
     for m in MISMATCH.finditer(log):

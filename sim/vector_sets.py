@@ -3,11 +3,12 @@
 
 ``make vectors`` (``python -m sim.vector_sets``) writes, for every set in ``SETS``, the soak's
 constrained-random stimulus (sim/soak.py, a fixed seed) and the protocol model's prediction of
-every output in every cycle (sim/protocol.py) as ``$readmemh`` files, with what a simulator
-needs to replay them without Python:
+every output in every cycle (sim/protocol.py) as one binary vector file, with what a simulator
+needs to replay it without Python:
 
-* ``stim.hex``, ``expect.hex``, ``mask.hex``: one hex word per cycle (sim/soak.py,
-  ``write_vectors``); the bench compares ``(got ^ expect) & mask`` with 0;
+* ``vectors.bin``: one binary record per cycle (sim/soak.py, ``write_vectors``): the stimulus
+  word, then ``{mask, expect}``, each big-endian in whole bytes, read by ``$fread``
+  (sim/vectors/vector_loop.vh); the bench compares ``(got ^ expect) & mask`` with 0;
 * ``params.txt``: ``UNIT <unit>`` then one ``NAME VALUE`` line per parameter of the bench
   ``sim/vectors/tb_<unit>.v`` (strings in double quotes; a ``"rom/..."`` path is relative to
   ``rtl/``), read by ``sim/vectors/replay.sh``;
@@ -21,10 +22,9 @@ only: after a change of the model's timing (e.g. the specular unit's FILL_LATENC
 
 ``write_stimulus`` writes a set of any length from the same generator into any folder (not
 committed: ``python -m sim bench`` times a 200k-cycle one), and ``replay`` builds and runs a
-set's bench under Icarus or ``verilator --binary`` as sim/vectors/replay.sh does, the build
-and the run timed apart; ``load_time`` times a bench that only reads the set's three files
-(``$readmemh`` parses about a million lines a second under Verilator 5.006: at 200k cycles it
-is most of the replay's run time there).
+set's bench under Icarus or ``verilator --binary`` as sim/vectors/replay.sh does
+(sim/vector_run.py), the build and the run timed apart; ``load_time`` times a bench that only
+reads the set's vector file as the replay does (``$fread``, 1024 records a call).
 """
 
 from __future__ import annotations
@@ -40,7 +40,7 @@ from pathlib import Path
 
 from model.units import divider, gouraud, specular
 from model.units.gouraud import GouraudConfig
-from sim import soak, units
+from sim import soak, units, vector_run
 from sim.protocol import ProtocolModel
 from sim.runner import RTL_DIR, unit_parameters
 
@@ -50,7 +50,7 @@ VECTOR_DIR = soak.VECTOR_DIR
 SEED = 2026
 DEFAULT_CYCLES = 3000
 OTHER_CYCLES = 1500
-FILES = ("stim.hex", "expect.hex", "mask.hex", "params.txt", "manifest.json")
+FILES = ("vectors.bin", "params.txt", "manifest.json")
 
 # Set name -> (configuration, cycles): every unit at its default configuration and a few others.
 SETS: dict[str, tuple[units.UnitConfig, int]] = {
@@ -118,6 +118,7 @@ def covering_stimulus(
 def manifest(name: str, cfg: units.UnitConfig, cycles: int, seed: int, stats: dict) -> dict:
     spec = units.spec(cfg)
     sf, of = soak.stim_fields(spec), soak.out_fields(spec)
+    sb, ob = soak.record_bytes(spec)
     params = bench_parameters(cfg)
     return {
         "set": name,
@@ -131,15 +132,26 @@ def manifest(name: str, cfg: units.UnitConfig, cycles: int, seed: int, stats: di
         "seed": seed,
         "stimulus": f"sim/soak.py stimulus(cfg, {cycles}, seed={seed})",
         "files": {
-            "stim": {"file": "stim.hex", "bits": soak.width(sf), "fields": _fields(sf)},
-            "expect": {"file": "expect.hex", "bits": soak.width(of), "fields": _fields(of)},
+            "vectors": {
+                "file": "vectors.bin",
+                "record_bytes": sb + ob,
+                "layout": (
+                    f"one record per cycle, read by $fread: the stimulus word in {sb} bytes, then "
+                    f"{{mask, expect}} in {ob} bytes ({soak.width(of)} bits each), each "
+                    "big-endian and right-aligned"
+                ),
+            },
+            "stim": {"bits": soak.width(sf), "fields": _fields(sf)},
+            "expect": {"bits": soak.width(of), "fields": _fields(of)},
             "mask": {
-                "file": "mask.hex",
                 "bits": soak.width(of),
                 "fields": "as expect: 1 = compare the bit, 0 = the output is undefined there",
             },
         },
-        "timing": "cycle i: drive stim[i], rising clock edge, 1 ns later compare the outputs",
+        "timing": (
+            "cycle i: drive stim[i], a rising clock edge 5 ns later, compare the outputs 5 ns "
+            "after it (clock period 10 ns)"
+        ),
         "coverage": stats,
         "replay": [
             f"sim/vectors/replay.sh {name} icarus",
@@ -179,7 +191,7 @@ def write_set(name: str, out_dir: Path) -> Path:
             raise AssertionError(
                 f"{name}: RESET_ALL = 1 predicts otherwise in cycle {cycle}: {bad}"
             )
-    soak.write_vectors(spec, stim, pred.outputs, folder)
+    soak.write_vectors(spec, stim, pred.outputs, folder / "vectors.bin")
     stats = {k: v for k, v in asdict(pred.stats).items() if k != "errors"}
     (folder / "params.txt").write_text(params_text(cfg, cycles))
     text = json.dumps(manifest(name, cfg, cycles, seed, stats), indent=2) + "\n"
@@ -187,13 +199,25 @@ def write_set(name: str, out_dir: Path) -> Path:
     return folder
 
 
-def write_stimulus(cfg: units.UnitConfig, cycles: int, seed: int, folder: Path) -> soak.Stats:
+def write_stimulus(
+    cfg: units.UnitConfig,
+    cycles: int,
+    seed: int,
+    folder: Path,
+    seconds: dict[str, float] | None = None,
+) -> soak.Stats:
     """A set of ``cycles`` cycles of the soak's stimulus for ``seed`` (not committed) in
-    ``folder``: stim, expect and mask files and params.txt; returns what the stimulus covers."""
+    ``folder``: vectors.bin and params.txt; returns what the stimulus covers.  ``seconds``, if
+    given, receives the CPU seconds of each step: stimulus, predict, write."""
+    t0 = time.process_time()
     stim = soak.stimulus(cfg, cycles, seed)
+    t1 = time.process_time()
     pred = soak.predict(cfg, stim)
-    soak.write_vectors(units.spec(cfg), stim, pred.outputs, folder)
+    t2 = time.process_time()
+    soak.write_vectors(units.spec(cfg), stim, pred.outputs, folder / "vectors.bin")
     (folder / "params.txt").write_text(params_text(cfg, cycles))
+    if seconds is not None:
+        seconds.update(stimulus=t1 - t0, predict=t2 - t1, write=time.process_time() - t2)
     return pred.stats
 
 
@@ -206,9 +230,11 @@ class Replay:
     mismatches: int  # -1: the bench did not finish
     passed: bool
     build_s: float
-    run_s: float
+    run_s: float  # wall seconds of the fastest run
     log: str
-    load_s: float = 0.0  # of run_s: reading the three vector files alone (``load_time``)
+    load_s: float = 0.0  # of run_s: reading the vector file alone (``load_time``)
+    run_cpu_s: float = 0.0  # CPU seconds of the simulator process in the fastest run
+    build_cached: bool = False
 
 
 def set_parameters(set_dir: Path) -> tuple[str, dict[str, str]]:
@@ -228,74 +254,74 @@ def set_parameters(set_dir: Path) -> tuple[str, dict[str, str]]:
     return unit, params
 
 
-def replay(set_dir: Path, sim: str, build: Path, timeout: float = 3600, repeats: int = 1) -> Replay:
+def replay(
+    set_dir: Path,
+    sim: str,
+    build: Path,
+    timeout: float = 3600,
+    repeats: int = 1,
+    cache: bool = True,
+) -> Replay:
     """Build the bench of set ``set_dir`` under ``sim`` (icarus or verilator, as
-    sim/vectors/replay.sh: both RESET_ALL instances) in ``build``, run it ``repeats`` times;
-    the build and the fastest run timed apart."""
+    sim/vectors/replay.sh: both RESET_ALL instances) in ``build`` (sim/vector_run.py: a build
+    of the same configuration there is reused), run it ``repeats`` times; the build and the
+    fastest run timed apart."""
     unit, params = set_parameters(set_dir)
-    top = f"tb_{unit}"
-    for kind in ("stim", "expect", "mask"):
-        params[f"{kind.upper()}_FILE"] = f'"{set_dir / f"{kind}.hex"}"'
-    sources = [str(VECTOR_DIR / f"{top}.v"), str(RTL_DIR / f"{unit}.v")]
-    common = [f"-I{VECTOR_DIR}", f'-DSHADING_ROM_DIR="{RTL_DIR / "rom"}"']
-    build.mkdir(parents=True, exist_ok=True)
-    if sim == "icarus":
-        vvp = build / f"{top}.vvp"
-        cmd = ["iverilog", "-g2005", "-o", str(vvp), "-s", top, *common]
-        cmd += [f"-P{top}.{k}={v}" for k, v in params.items()] + sources
-        run = ["vvp", "-n", str(vvp)]
-    elif sim == "verilator":
-        obj = build / f"obj_{top}"
-        cmd = ["verilator", "--binary", "-Wno-fatal", "-Wno-lint", "-Wno-style"]
-        cmd += ["--top-module", top, "-Mdir", str(obj), *common]
-        cmd += [f"-G{k}={v}" for k, v in params.items()] + sources
-        run = [str(obj / f"V{top}")]
-    else:
-        raise ValueError(f"sim={sim!r} is not allowed: it must be icarus or verilator")
-    cycles = int(params["CYCLES"])
-    t0 = time.monotonic()
-    built = subprocess.run(cmd, capture_output=True, text=True, cwd=build, timeout=timeout)
-    build_s = time.monotonic() - t0
-    log = built.stdout + built.stderr
-    if built.returncode != 0:
-        return Replay(sim, cycles, -1, False, build_s, 0.0, log)
-    run_s = float("inf")
+    cycles = int(params.pop("CYCLES"))
+    b = vector_run.build(unit, params, sim, build, cache=cache, timeout=timeout)
+    if not b.ok:
+        return Replay(sim, cycles, -1, False, b.seconds, 0.0, b.log)
+    best = None
     for _ in range(repeats):  # the fastest of ``repeats`` runs (a run's output is the same)
-        t0 = time.monotonic()
-        ran = subprocess.run(run, capture_output=True, text=True, cwd=build, timeout=timeout)
-        run_s = min(run_s, time.monotonic() - t0)
-    log += ran.stdout + ran.stderr
-    done = soak.DONE.search(log)
-    mismatches = int(done.group(2)) if done else -1
-    passed = ran.returncode == 0 and done is not None and int(done.group(1)) == cycles
-    return Replay(sim, cycles, mismatches, passed and mismatches == 0, build_s, run_s, log)
+        ran = vector_run.run(b, set_dir / "vectors.bin", cycles, timeout=timeout)
+        if best is None or ran.wall_s < best.wall_s:
+            best = ran
+    assert best is not None
+    return Replay(
+        sim,
+        cycles,
+        best.mismatches,
+        best.passed,
+        b.seconds,
+        best.wall_s,
+        b.log + best.log,
+        run_cpu_s=best.cpu_s,
+        build_cached=b.cached,
+    )
 
 
 def load_time(
     set_dir: Path, sim: str, build: Path, timeout: float = 3600, repeats: int = 1
 ) -> float:
-    """Seconds a bench that only ``$readmemh``-reads the three files of ``set_dir`` (in words
-    as wide as their hex digits) runs under ``sim`` (fastest of ``repeats`` runs): the
-    replay's file-reading share."""
-    decls, reads = [], []
-    for kind in ("stim", "expect", "mask"):
-        path = set_dir / f"{kind}.hex"
-        lines = path.read_text().split()
-        digits, words = len(lines[0]), len(lines)
-        decls.append(f"reg [{4 * digits - 1}:0] {kind}_mem [0:{words - 1}];")
-        reads.append(f'$readmemh("{path}", {kind}_mem);')
-    text = "\n".join(
-        ["module tb_load;", *decls, "initial begin", *reads, "$finish;", "end", "endmodule"]
-    )
+    """Wall seconds a bench that only reads the vector file of ``set_dir`` (``$fread``, 1024
+    records a call, as the replay does; no unit, no clock) runs under ``sim`` (fastest of
+    ``repeats`` runs): the replay's file-reading share."""
+    _, params = set_parameters(set_dir)
+    spec_bytes = (set_dir / "vectors.bin").stat().st_size // int(params["CYCLES"])
+    cycles = int(params["CYCLES"])
+    text = f"""module tb_load;
+reg [{8 * spec_bytes - 1}:0] chunk [0:1023];
+integer fd, i, total;
+initial begin
+    fd = $fopen("{set_dir / "vectors.bin"}", "rb");
+    total = 0;
+    for (i = 0; i < {cycles}; i = i + 1024) begin
+        total = total + $fread(chunk, fd, 0, ({cycles} - i < 1024) ? {cycles} - i : 1024);
+    end
+    $display("read %0d bytes", total);
+    $finish;
+end
+endmodule
+"""
     build.mkdir(parents=True, exist_ok=True)
-    (build / "tb_load.v").write_text(text + "\n")
+    (build / "tb_load.v").write_text(text)
     if sim == "icarus":
         cmd = ["iverilog", "-g2005", "-o", str(build / "tb_load.vvp"), str(build / "tb_load.v")]
         run = ["vvp", "-n", str(build / "tb_load.vvp")]
     else:
         obj = build / "obj_tb_load"
-        cmd = ["verilator", "--binary", "-Wno-fatal", "-Wno-lint", "-Wno-style", "-Mdir", str(obj)]
-        cmd += [str(build / "tb_load.v")]
+        cmd = ["verilator", "--binary", "-j", vector_run.BUILD_JOBS, *vector_run.VERILATOR_FLAGS]
+        cmd += ["-Mdir", str(obj), str(build / "tb_load.v")]
         run = [str(obj / "Vtb_load")]
     built = subprocess.run(cmd, capture_output=True, text=True, cwd=build, timeout=timeout)
     if built.returncode != 0:

@@ -7,7 +7,7 @@ from __future__ import annotations
 import pytest
 
 from model.units.gouraud import GouraudConfig
-from sim.runner import hdl_parameters, run_bench
+from sim.runner import hdl_parameters, run_bench, simulator
 from tests.conftest import record_sim
 
 pytestmark = pytest.mark.sim
@@ -44,4 +44,6 @@ def test_gouraud_rtl_matches_model(request, name: str, reset_all: int) -> None:
     assert all(r["reset_all"] == reset_all for r in records), records
     # Data outputs X between a reset and the first result only where the data path is unreset
     x_cycles = sum(r["x_data_cycles"] for r in records)
-    assert (x_cycles > 0) if reset_all == 0 else (x_cycles == 0), records
+    # (Verilator is two-state: no X at all.)
+    four_state = simulator() == "icarus"
+    assert (x_cycles > 0) if reset_all == 0 and four_state else (x_cycles == 0), records

@@ -8,7 +8,8 @@ import pytest
 
 from model.render import raster, reference, scenefile
 from model.render.shade import render
-from sim.scene_cosim import cosimulate
+from model.units import divider
+from sim.scene_cosim import cosimulate, job_stream
 from tests.conftest import record_sim
 
 pytestmark = pytest.mark.sim
@@ -37,7 +38,7 @@ def test_rtl_scene_equals_model_scene_byte_for_byte(request) -> None:
         ],
     )
     print(
-        f"scene co-simulation: {result.pixels} pixels in {sum(result.seconds.values()):.1f} s "
+        f"scene co-simulation ({result.sim}): {result.pixels} pixels in {result.wall_s:.1f} s "
         f"= {result.pixels_per_second:.0f} pixels/s; RTL cycles {result.cycles}"
     )
 
@@ -79,3 +80,17 @@ def test_rtl_scene_with_the_diffuse_term_through_the_specular_unit() -> None:
     # Every pixel through the unit once for the highlight and once per channel for the diffuse.
     assert result.results["specular_unit"] == 4 * result.pixels > 100
     print(f"diffuse co-simulation: {result.pixels} pixels, RTL cycles {result.cycles}")
+
+
+def test_job_stream_runs_the_jobs_back_to_back() -> None:
+    """The scene's stimulus: three reset cycles, the first job's operands, then each start in
+    the first cycle busy is 0 with the next job's operands written beside it (no simulator)."""
+    jobs = [{"a": 100, "k": 4}, {"a": -7, "k": 0}, {"a": 5, "k": 2047}]
+    stim, pred, started = job_stream(divider.DEFAULT, jobs)
+    assert [job.operands for job in started] == jobs
+    s = pred.stats
+    assert s.jobs_completed == 3 and s.back_to_back == 2 and s.results_compared == 3, s
+    assert s.writes_ignored == 0 and s.starts_ignored == 0, s
+    assert [c["rst_n"] for c in stim[:4]] == [0, 0, 0, 1]
+    assert sum(c["start"] for c in stim) == 3
+    assert pred.outputs[-1]["busy"] == 0 and pred.outputs[-2]["busy"] == 1

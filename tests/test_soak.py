@@ -5,17 +5,20 @@ Random strobes, start timing and resets, writes in the start cycle and in busy c
 across 0 and at the extremes (sim/soak.py); every output is compared with the protocol model
 in every cycle.  The seed is printed in the run's summary; ``SOAK_SEED=<seed>`` replays a run.
 A saved mutant (the divider's div_zero defect of issue 11) must fail the soak, naming div_zero.
+``SOAK_SIM=verilator`` replays under ``verilator --binary`` instead of Icarus (one build per
+configuration, kept in sim_build/vector_builds/ for the next run; sim/vector_run.py).
 """
 
 from __future__ import annotations
 
+import os
 import random
 from pathlib import Path
 
 import pytest
 
 from model.units import divider, gouraud, specular
-from sim import soak
+from sim import soak, vector_run
 from sim.runner import SIM_BUILD, env_seed, unit_parameters
 from tests import mutants
 from tests.conftest import record_sim
@@ -37,6 +40,13 @@ CONFIGS = {
     "specular_narrow": (specular.ROM_CONFIGS["narrow"], SHORT_SOAK),
     "specular_inflection": (specular.ROM_CONFIGS["inflection"], SHORT_SOAK),
 }
+
+
+def soak_sim() -> str:
+    sim = os.environ.get("SOAK_SIM", "").strip().lower() or "icarus"
+    if sim not in vector_run.SIMS:
+        raise ValueError(f"SOAK_SIM={sim!r} is not allowed: it must be icarus or verilator")
+    return sim
 
 
 def soak_seed() -> int:
@@ -65,9 +75,22 @@ def record_soak(request, result: soak.SoakResult) -> None:
 def test_soak_every_output_every_cycle(request, name: str) -> None:
     cfg, cycles = CONFIGS[name]
     seed = soak_seed()
-    result = soak.run_soak(cfg, cycles, seed, SIM_BUILD / f"soak_{name}", unit_parameters(cfg))
+    result = soak.run_soak(
+        cfg,
+        cycles,
+        seed,
+        SIM_BUILD / f"soak_{name}",
+        unit_parameters(cfg),
+        sim=soak_sim(),
+        build_root=SIM_BUILD / "vector_builds",
+    )
     record_soak(request, result)
     print(result.summary())
+    t = result.seconds
+    print(
+        f"{name}: stimulus {t['stimulus']:.2f} s, predict {t['predict']:.2f} s, write "
+        f"{t['write']:.2f} s (CPU), build {t['build']:.2f} s, replay {t['replay']:.2f} s"
+    )
     assert result.mismatch_count == 0, (
         f"{result.summary()}\nreplay with SOAK_SEED={seed}\n" + "\n".join(result.mismatches)
     )

@@ -22,7 +22,7 @@ from pathlib import Path
 import pytest
 
 from model.units import divider, gouraud
-from sim import vector_sets
+from sim import soak, units, vector_sets
 from sim.__main__ import vector_bench
 
 pytestmark = pytest.mark.sim
@@ -72,9 +72,8 @@ def test_sets_are_small_and_cover_the_protocol() -> None:
         total += sum((folder / f).stat().st_size for f in vector_sets.FILES)
         manifest = json.loads((folder / "manifest.json").read_text())
         assert manifest["cycles"] == cycles and manifest["seed"] >= vector_sets.SEED
-        for kind in ("stim", "expect", "mask"):
-            lines = (folder / f"{kind}.hex").read_text().splitlines()
-            assert len(lines) == cycles, (name, kind)
+        size = sum(soak.record_bytes(units.spec(vector_sets.SETS[name][0])))
+        assert (folder / "vectors.bin").stat().st_size == cycles * size, name
         c = manifest["coverage"]
         assert c["results_compared"] > 0 and c["jobs_aborted"] > 0 and c["back_to_back"] > 0, c
         assert c["writes_at_start"] > 0 and c["starts_ignored"] > 0, c
@@ -91,17 +90,21 @@ def test_replay_verilator(name: str, tmp_path: Path) -> None:
     assert_clean(replay(name, "verilator", tmp_path), vector_sets.SETS[name][1])
 
 
-def corrupt(src: Path, dst: Path) -> int:
-    """A copy of set ``src`` in ``dst`` with one compared bit of one expected word flipped."""
+def corrupt(src: Path, dst: Path, cfg=None) -> int:
+    """A copy of set ``src`` in ``dst`` with one compared bit of one expected word flipped (bit 0
+    of the first cycle from the middle on whose mask compares it); returns that cycle."""
     dst.mkdir()
     for f in vector_sets.FILES:
         if (src / f).exists():  # a generated set (write_stimulus) has no manifest
             (dst / f).write_bytes((src / f).read_bytes())
-    expect = (dst / "expect.hex").read_text().splitlines()
-    mask = (dst / "mask.hex").read_text().splitlines()
-    cycle = next(i for i in range(len(mask) // 2, len(mask)) if int(mask[i], 16) & 1)
-    expect[cycle] = f"{int(expect[cycle], 16) ^ 1:0{len(expect[cycle])}x}"
-    (dst / "expect.hex").write_text("\n".join(expect) + "\n")
+    spec = units.spec(cfg or vector_sets.SETS[src.name][0])
+    records = soak.read_vectors(spec, dst / "vectors.bin")
+    cycle = next(i for i in range(len(records) // 2, len(records)) if records[i][2] & 1)
+    data = bytearray((dst / "vectors.bin").read_bytes())
+    size = sum(soak.record_bytes(spec))
+    data[(cycle + 1) * size - 1] ^= 1  # expect's bit 0 is the record's last bit
+    (dst / "vectors.bin").write_bytes(bytes(data))
+    assert soak.read_vectors(spec, dst / "vectors.bin")[cycle][1] == records[cycle][1] ^ 1
     return cycle
 
 
@@ -118,16 +121,26 @@ def test_a_wrong_expected_word_fails_loudly(tool: str, tmp_path: Path) -> None:
     assert re.search(r"^FAIL .*2 mismatches", log, re.M), log
 
 
-def test_a_short_file_is_refused(tmp_path: Path) -> None:
+def test_a_short_long_or_padded_file_is_refused(tmp_path: Path) -> None:
     bad = tmp_path / "short"
     bad.mkdir()
     src = vector_sets.VECTOR_DIR / "divider_n4"
     for f in vector_sets.FILES:
         (bad / f).write_bytes((src / f).read_bytes())
-    lines = (bad / "mask.hex").read_text().splitlines()
-    (bad / "mask.hex").write_text("\n".join(lines[:-5]) + "\n")
+    data = (bad / "vectors.bin").read_bytes()
+    size = len(data) // vector_sets.SETS["divider_n4"][1]
+    (bad / "vectors.bin").write_bytes(data[: -5 * size])
     ran = replay(bad, "icarus", tmp_path / "build")
     assert ran.returncode != 0 and "has fewer than CYCLES" in ran.stdout, ran.stdout + ran.stderr
+    (bad / "vectors.bin").write_bytes(data + data[:size])
+    ran = replay(bad, "icarus", tmp_path / "build2")
+    assert ran.returncode != 0 and "has more than CYCLES" in ran.stdout, ran.stdout + ran.stderr
+    # the divider_n4 stimulus word is 18 bits: the top 6 bits of its 3 bytes pad it
+    padded = bytearray(data)
+    padded[7 * size] |= 0x80
+    (bad / "vectors.bin").write_bytes(bytes(padded))
+    ran = replay(bad, "icarus", tmp_path / "build3")
+    assert ran.returncode != 0 and "record 7 of" in ran.stdout, ran.stdout + ran.stderr
 
 
 @pytest.mark.parametrize("tool", ["icarus", "verilator"])
@@ -140,7 +153,7 @@ def test_timed_replay_of_a_generated_stimulus(tool: str, tmp_path: Path) -> None
     assert run.passed and run.mismatches == 0 and run.cycles == 400, run.log
     assert run.build_s > 0 and run.run_s > 0
     assert vector_sets.load_time(tmp_path / "set", tool, tmp_path / "load") > 0
-    cycle = corrupt(tmp_path / "set", tmp_path / "bad")
+    cycle = corrupt(tmp_path / "set", tmp_path / "bad", divider.ROM_CONFIGS["n4"])
     bad = vector_sets.replay(tmp_path / "bad", tool, tmp_path / "build_bad")
     assert not bad.passed and bad.mismatches == 2, bad.log
     assert f"MISMATCH cycle {cycle} RESET_ALL=1" in bad.log, bad.log
@@ -155,12 +168,12 @@ def test_vector_mode_table_and_failure(monkeypatch, capsys) -> None:
         assert re.search(rf"^{unit} +icarus +200 +\d+ ", out, re.M), out
     write = vector_sets.write_stimulus
 
-    def flipped(cfg, cycles, seed, folder):
-        stats = write(cfg, cycles, seed, folder)
+    def flipped(cfg, cycles, seed, folder, seconds=None):
+        stats = write(cfg, cycles, seed, folder, seconds)
         if isinstance(cfg, gouraud.GouraudConfig):
-            corrupt(folder, folder.with_name("flipped"))
-            (folder / "expect.hex").write_bytes(
-                (folder.with_name("flipped") / "expect.hex").read_bytes()
+            corrupt(folder, folder.with_name("flipped"), cfg)
+            (folder / "vectors.bin").write_bytes(
+                (folder.with_name("flipped") / "vectors.bin").read_bytes()
             )
         return stats
 

@@ -47,6 +47,12 @@ SLOW: dict[str, str] = {
     "tests/test_vectors.py::test_a_wrong_expected_word_fails_loudly[verilator]": (
         "a Verilator build; quick: the Icarus run of the same probe"
     ),
+    "tests/test_sim_verilator.py::test_bench_passes_under_verilator": (
+        "a Verilator build of each unit for cocotb (30 s each); quick: the same benches, Icarus"
+    ),
+    "tests/test_sim_verilator.py::test_div_zero_leak_fails_under_verilator": (
+        "a Verilator build; quick: the same mutant under Icarus"
+    ),
     "tests/test_rtl_params.py::test_rtl_refuses_exactly_what_the_model_refuses[specular_unit]": (
         "every refused specular parameter under three tools (20 s); quick: the divider's"
     ),

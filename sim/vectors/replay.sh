@@ -6,8 +6,8 @@
 #
 # <set> is a folder name under sim/vectors/ (e.g. divider_default) or a path to a set folder.
 # Builds sim/vectors/tb_<unit>.v with rtl/<unit>.v and the set's parameters (params.txt; ROM
-# images from rtl/rom, absolute paths, and -DSHADING_ROM_DIR) under Icarus (iverilog -g2005, vvp)
-# or Verilator (--binary), and runs it: one instance of the unit with RESET_ALL = 0 and one with
+# images from rtl/rom, absolute paths, and -DSHADING_ROM_DIR; VECTOR_FILE = the set's
+# vectors.bin) under Icarus (iverilog -g2005, vvp) or Verilator (--binary -O3), and runs it: one instance of the unit with RESET_ALL = 0 and one with
 # RESET_ALL = 1 against the same expected outputs.  Prints the bench's MISMATCH lines and its
 # PASS or FAIL line; exits non-zero on any mismatch or build error.
 # REPLAY_BUILD=<dir> builds there (kept; default: a temporary folder, removed).
@@ -35,8 +35,9 @@ while read -r name value; do
 done < "$setdir/params.txt"
 [ -n "$unit" ] || { echo "error: $setdir/params.txt names no UNIT" >&2; exit 2; }
 top="tb_$unit"
-names+=(STIM_FILE EXPECT_FILE MASK_FILE)
-values+=("\"$setdir/stim.hex\"" "\"$setdir/expect.hex\"" "\"$setdir/mask.hex\"")
+[ -f "$setdir/vectors.bin" ] || { echo "error: no vector file $setdir/vectors.bin" >&2; exit 2; }
+names+=(VECTOR_FILE)
+values+=("\"$setdir/vectors.bin\"")
 sources=("$here/$top.v" "$rtl/$unit.v")
 define="SHADING_ROM_DIR=\"$rtl/rom\""
 
@@ -60,7 +61,8 @@ run_verilator() {
   local args=()
   for i in "${!names[@]}"; do args+=("-G${names[$i]}=${values[$i]}"); done
   echo "== $(basename "$setdir"): $top under Verilator"
-  verilator --binary -Wno-fatal -Wno-lint -Wno-style --top-module "$top" -Mdir "$build/obj_$top" \
+  verilator --binary -j 2 -O3 --x-assign fast --x-initial fast -Wno-fatal -Wno-lint -Wno-style \
+    --top-module "$top" -Mdir "$build/obj_$top" \
     -I"$here" "-D$define" "${args[@]}" "${sources[@]}" > "$build/verilator_build.log" 2>&1 \
     || { cat "$build/verilator_build.log" >&2; echo "FAIL: verilator could not build $top" >&2; exit 1; }
   "$build/obj_$top/V$top"

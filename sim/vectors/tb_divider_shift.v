@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
-// Vector bench of rtl/divider_shift.v: replays stim.hex, checks every output every cycle
-// against expect.hex / mask.hex (written from the model by sim/soak.py and sim/vector_sets.py),
-// in one instance with RESET_ALL = 0 and one with RESET_ALL = 1.  Plain Verilog-2005; with
-// GATE_LEVEL defined the instance takes no parameters (a synthesised netlist of divider_shift).
+// Vector bench of rtl/divider_shift.v: replays a binary vector file (stimulus, expected outputs
+// and mask of every cycle, written from the model by sim/soak.py and sim/vector_sets.py)
+// and checks every output every cycle, in one instance with RESET_ALL = 0 and one with
+// RESET_ALL = 1 (vector_loop.vh).  Plain Verilog-2005; with GATE_LEVEL defined the
+// instance takes no parameters (a synthesised netlist of divider_shift).
 // Replay a committed set: sim/vectors/replay.sh <set> [icarus|verilator].
 
 `resetall
@@ -21,9 +22,8 @@ module tb_divider_shift #(
     // bit r set: an instance with RESET_ALL = r is replayed (3: both)
     parameter RESET_MODES = 3,
     parameter CYCLES = 1,
-    parameter STIM_FILE = "stim.hex",
-    parameter EXPECT_FILE = "expect.hex",
-    parameter MASK_FILE = "mask.hex"
+    // the set's binary vector file (vector_loop.vh); +VECTOR_FILE= and +CYCLES= override
+    parameter VECTOR_FILE = "vectors.bin"
 );
 
 localparam Q_WIDTH = A_WIDTH + RECIP_BITS;

@@ -1,8 +1,9 @@
 // SPDX-License-Identifier: Apache-2.0
-// Vector bench of rtl/gouraud_segment.v: replays stim.hex, checks every output every cycle
-// against expect.hex / mask.hex (written from the model by sim/soak.py and sim/vector_sets.py),
-// in one instance with RESET_ALL = 0 and one with RESET_ALL = 1.  Plain Verilog-2005; with
-// GATE_LEVEL defined the instance takes no parameters (a synthesised netlist of gouraud_segment).
+// Vector bench of rtl/gouraud_segment.v: replays a binary vector file (stimulus, expected outputs
+// and mask of every cycle, written from the model by sim/soak.py and sim/vector_sets.py)
+// and checks every output every cycle, in one instance with RESET_ALL = 0 and one with
+// RESET_ALL = 1 (vector_loop.vh).  Plain Verilog-2005; with GATE_LEVEL defined the
+// instance takes no parameters (a synthesised netlist of gouraud_segment).
 // Replay a committed set: sim/vectors/replay.sh <set> [icarus|verilator].
 
 `resetall
@@ -17,9 +18,8 @@ module tb_gouraud_segment #(
     // bit r set: an instance with RESET_ALL = r is replayed (3: both)
     parameter RESET_MODES = 3,
     parameter CYCLES = 1,
-    parameter STIM_FILE = "stim.hex",
-    parameter EXPECT_FILE = "expect.hex",
-    parameter MASK_FILE = "mask.hex"
+    // the set's binary vector file (vector_loop.vh); +VECTOR_FILE= and +CYCLES= override
+    parameter VECTOR_FILE = "vectors.bin"
 );
 
 localparam I_WIDTH = I_INT + I_FRAC;
