@@ -146,8 +146,9 @@ def test_bench_prints_one_table_for_scenes_and_sizes(capsys) -> None:
             assert all(any(f"| {label} |" in r for r in mine) for label in labels), mine
     assert "| (a) exact Blinn | " in out and "| 1.00x |" in out
     targets = [line for line in out.splitlines() if line.startswith("target: ")]
-    assert len(targets) == 5
+    assert len(targets) == 6
     assert all(t.endswith(("(met)", "(not met)")) or "not measured" in t for t in targets)
+    assert "| (c) ceiling: its set-up's floor |" in out  # sizes 16 and 24: no ceiling line
 
 
 def test_trade_takes_meshes_with_or_instead_of_scenes(ball: Path, capsys, monkeypatch) -> None:
