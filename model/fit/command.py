@@ -8,10 +8,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from model.fit import run, search
 from model.hw.parts import PARTS
 from model.render import scenefile
-from model.study import report
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -109,7 +107,11 @@ def positive(text: str) -> float:
 
 def run_command(args: argparse.Namespace, source: scenefile.SceneSource, notes: list[str]) -> int:
     """``shading fit``: prints the stages and the report; exit 0 when the target is met, 1 when
-    it cannot be (the bundle then holds the closest design)."""
+    it cannot be (the bundle then holds the closest design).  The fit's modules are imported
+    here, not at the top: every ``shading`` command builds this parser."""
+    from model.fit import run, search
+    from model.study import report
+
     if args.min_fmax is not None and args.no_synth:
         args.command_parser.error(
             f"argument --min-fmax: {args.min_fmax:g} is not allowed with --no-synth: an Fmax "
