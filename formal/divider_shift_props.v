@@ -24,8 +24,8 @@
  * Induction helpers (`ifdef DIVIDER_INTERNALS): k-induction needs the unit's internal registers
  * tied to the reference model.  They are read without changing the RTL: the f_int_* wires
  * below are left undriven here and the job's Yosys script connects them after `flatten` to
- * the flattened registers (connect -set f_int_bits \dut.bits_reg, ...).  The helpers are
- * asserted (proven with the rest), never assumed.
+ * the flattened registers (connect -nounset -set f_int_bits \dut.bits_reg, ...).  The
+ * helpers are asserted (proven with the rest), never assumed.
  *
  * The one assumption: reset (rst_n = 0) in the first cycle.  Everything else is free.
  *
@@ -255,7 +255,7 @@ end
 
 // ---------------------------------------------------------------- induction helpers
 `ifdef DIVIDER_INTERNALS
-// Driven after flatten by the job's script (connect -set f_int_x \dut.x); see the header.
+// Driven after flatten by the job's script (connect -nounset -set f_int_x \dut.x); see the header.
 wire [A_WIDTH-1:0]  f_int_a;
 wire [R_WIDTH-1:0]  f_int_recip;
 wire                f_int_k_zero;

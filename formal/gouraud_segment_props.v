@@ -26,7 +26,7 @@
  *
  * Induction helpers (`ifdef GOURAUD_INTERNALS): the f_int_* wires are left undriven here and
  * the job's Yosys script connects them after `flatten` to the flattened registers
- * (connect -set f_int_seg \dut.seg_reg, ...).  They are asserted, never assumed.
+ * (connect -nounset -set f_int_seg \dut.seg_reg, ...).  They are asserted, never assumed.
  *
  * The one assumption: reset (rst_n = 0) in the first cycle.  Everything else is free.
  */
@@ -289,7 +289,7 @@ end
 
 // ---------------------------------------------------------------- induction helpers
 `ifdef GOURAUD_INTERNALS
-// Driven after flatten by the job's script (connect -set f_int_x \dut.x); see the header.
+// Driven after flatten by the job's script (connect -nounset -set f_int_x \dut.x); see the header.
 wire [I_WIDTH-1:0]   f_int_i0;
 wire [DI_WIDTH-1:0]  f_int_di;
 wire [LEN_WIDTH-1:0] f_int_len;

@@ -4,61 +4,106 @@
  * (read_verilog -formal; model/hw/formal_specular.py holds the jobs, docs/formal.md lists every
  * property beside the contract sentences of docs/specular.md it proves).
  *
- * specular_unit_formal wraps one specular_unit (instance "dut", the RTL's default parameters:
- * model.units.specular DEFAULT) with every input free and holds a reference model of the
+ * specular_unit_formal wraps one specular_unit (instance "dut", the job's configuration:
+ * model.hw.formal_specular CONFIGS) with every input free and holds a reference model of the
  * protocol in shadow registers, driven by the ports only:
  *   f_len, f_nerr       the operand registers as the contract says they behave (written with
  *                       their strobes while busy = 0, cleared by reset as the RTL does: l = 0
- *                       and n = 0, an invalid n);
+ *                       and n = 0, an invalid n); likewise f_c, f_dz, f_z0, f_n;
  *   f_job_len, f_job_nerr   the running line's l and n error (the values held *before* the
- *                       start cycle's writes);
+ *                       start cycle's writes); likewise f_job_c, f_job_dz, f_job_z0, f_job_n;
  *   f_left              busy cycles still to come: FILL_LATENCY + l = 8 + l at an accepted start;
  *   f_valid, f_nerr_out the expected valid (offsets 8..8+l after the start edge, i.e. while
- *                       f_left was 1..l+1 in the cycle before) and n_err.
- * The job's script removes both ROMs and leaves their read data free in every cycle, so every
- * property holds whatever the ROM words.  The data output (intensity) is observed only with
- * ARITH = 1, by intensity_zero_on_n_err (every pixel of an invalid n's line is 0); with
- * ARITH = 0 Yosys removes the data path before the run.
+ *                       f_left was 1..l+1 in the cycle before) and n_err;
+ *   f_zeta              the angle of the next result's pixel: z0 at the start, + dz per result.
+ * DATA = 0: the job's script removes both ROMs and leaves their read data free in every cycle,
+ * so every property holds whatever the ROM words.  The data output (intensity) is observed
+ * only with ARITH = 1, by intensity_zero_on_n_err (every pixel of an invalid n's line is 0);
+ * with ARITH = 0 Yosys removes the data path before the run.
+ * DATA = 1: also intensity_formula, every intensity equal to specular_unit_ref
+ * (formal/specular_unit_datapath.v: the contract's formula) of f_zeta and the line's C and n,
+ * with the ROM words from this file's own copies of the committed images (f_a_image,
+ * f_cos_image); CLAMP = 1 adds clamp_never_changes_a_result.  DATA = 2 (a bounded check with
+ * the helpers): the same with the words the unit's ROMs returned, their addresses asserted
+ * equal to the formula's (rom_address_of_the_formula, rom9_address_of_the_formula).
  * One labelled assert per property (busy_exact, ...), numbered by the P_* localparams.
  * CHECK = 0: every assert; n: only number n (the deliberate-error runs); 99: none (covers).
  *
  * Induction helpers (`ifdef SPECULAR_INTERNALS): the f_int_* wires are left undriven here and
  * the job's Yosys script connects them after `flatten` to the flattened registers
- * (connect -set f_int_cnt \dut.cnt_reg, ...).  They are asserted, never assumed.
+ * (connect -nounset -set f_int_cnt \dut.cnt_reg, ...).  They are asserted, never assumed.
  *
  * The one assumption: reset (rst_n = 0) in the first cycle.  Everything else is free.
  */
 
 module specular_unit_formal #(
+    // The unit's parameters (model.units.specular SpecularConfig.hdl_parameters(); the RTL's
+    // defaults here): the job sets them all
+    parameter C_INT_BITS = 8,
+    parameter C_FRAC_BITS = 8,
+    parameter Z_INT_BITS = 3,
+    parameter Z_FRAC_BITS = 26,
+    parameter LEN_WIDTH = 11,
+    parameter A_INT_BITS = 3,
+    parameter A_FRAC_BITS = 14,
+    parameter ROM_ADDR_BITS = 12,
+    parameter ROM_DATA_BITS = 16,
+    parameter OUT_WIDTH = 8,
+    parameter NUM_TABLES = 4,
+    parameter N_HI0 = 1,
+    parameter N_HI1 = 2,
+    parameter N_HI2 = 6,
+    parameter N_HI3 = 1000,
+    parameter K0 = 1,
+    parameter K1 = 2,
+    parameter K2 = 4,
+    parameter K3 = 16,
+    parameter [8*10-1:0] ALPHA = "taylor",
+    parameter MAG_INT_BITS = 1,
+    parameter N_FIRST = 1,
+    parameter N_LAST = 1000,
     parameter A_ROM_FILE = "a.hex",
     parameter COS_ROM_FILE = "cos.hex",
     parameter RESET_ALL = 0,
     // 1: also prove intensity = 0 on the pixels of an invalid n (the data path kept, the ROM
     // words free)
     parameter ARITH = 0,
+    // 1: also prove every intensity equal to the reference formula (specular_unit_ref of
+    // formal/specular_unit_datapath.v; the ROMs kept, their committed images)
+    parameter DATA = 0,
+    // 1 (with DATA): also prove clamp_never_changes_a_result
+    parameter CLAMP = 0,
     parameter CHECK = 0
 ) (
-    input wire         clk,
-    input wire         rst_n,
-    input wire [15:0]  c_in,
-    input wire         c_we,
-    input wire [28:0]  dz_in,
-    input wire         dz_we,
-    input wire [28:0]  z0_in,
-    input wire         z0_we,
-    input wire [9:0]   n_in,
-    input wire         n_we,
-    input wire [10:0]  len_in,
-    input wire         len_we,
-    input wire         start
+    input wire                              clk,
+    input wire                              rst_n,
+    input wire [C_INT_BITS+C_FRAC_BITS-1:0] c_in,
+    input wire                              c_we,
+    input wire [Z_INT_BITS+Z_FRAC_BITS-1:0] dz_in,
+    input wire                              dz_we,
+    input wire [Z_INT_BITS+Z_FRAC_BITS-1:0] z0_in,
+    input wire                              z0_we,
+    input wire [9:0]                        n_in,
+    input wire                              n_we,
+    input wire [LEN_WIDTH-1:0]              len_in,
+    input wire                              len_we,
+    input wire                              start
 );
 
-localparam LEN_WIDTH = 11;
 localparam FILL = 8;  // FILL_LATENCY of docs/specular.md
 localparam LAST_STAGE = 7;
-localparam L_WIDTH = LEN_WIDTH + 2;  // f_left: up to 8 + 2^LEN_WIDTH - 1
-localparam N_FIRST = 1;
-localparam N_LAST = 1000;
+localparam L_WIDTH = LEN_WIDTH + 2;  // f_left: up to 8 + 2^LEN_WIDTH - 1 (LEN_WIDTH >= 2)
+localparam C_W = C_INT_BITS + C_FRAC_BITS;
+localparam Z_W = Z_INT_BITS + Z_FRAC_BITS;
+localparam ACC_W = Z_W + LEN_WIDTH;
+localparam A_W = A_INT_BITS + A_FRAC_BITS;
+localparam MAG_W = MAG_INT_BITS + Z_FRAC_BITS;
+localparam PROD_W = MAG_W + A_W;
+localparam SHIFT = Z_FRAC_BITS + A_FRAC_BITS - ROM_ADDR_BITS;
+localparam RND_W = PROD_W + 1 - SHIFT;
+localparam OP_W = C_W + ROM_DATA_BITS;
+localparam TSEL_BITS = (NUM_TABLES > 2) ? 2 : 1;
+localparam [OUT_WIDTH-1:0] OUT_MAX = {OUT_WIDTH{1'b1}};
 
 // Property numbers (CHECK selects one)
 localparam P_BUSY_EXACT = 1;
@@ -66,15 +111,38 @@ localparam P_VALID_EXACT = 2;
 localparam P_NERR_OF_THE_LINE = 3;
 localparam P_RESET_IDLE = 4;
 localparam P_NERR_DARK = 5;
+localparam P_INTENSITY = 6;
+localparam P_CLAMP = 7;
+localparam P_ROM_ADDR = 8;
 localparam P_HELPERS = 9;
 
-wire        busy;
-wire        valid;
-wire [7:0]  intensity;
-wire        n_err;
+wire                 busy;
+wire                 valid;
+wire [OUT_WIDTH-1:0] intensity;
+wire                 n_err;
 
 specular_unit #(
+    .C_INT_BITS(C_INT_BITS),
+    .C_FRAC_BITS(C_FRAC_BITS),
+    .Z_INT_BITS(Z_INT_BITS),
+    .Z_FRAC_BITS(Z_FRAC_BITS),
     .LEN_WIDTH(LEN_WIDTH),
+    .A_INT_BITS(A_INT_BITS),
+    .A_FRAC_BITS(A_FRAC_BITS),
+    .ROM_ADDR_BITS(ROM_ADDR_BITS),
+    .ROM_DATA_BITS(ROM_DATA_BITS),
+    .OUT_WIDTH(OUT_WIDTH),
+    .NUM_TABLES(NUM_TABLES),
+    .N_HI0(N_HI0),
+    .N_HI1(N_HI1),
+    .N_HI2(N_HI2),
+    .N_HI3(N_HI3),
+    .K0(K0),
+    .K1(K1),
+    .K2(K2),
+    .K3(K3),
+    .ALPHA(ALPHA),
+    .MAG_INT_BITS(MAG_INT_BITS),
     .N_FIRST(N_FIRST),
     .N_LAST(N_LAST),
     .A_ROM_FILE(A_ROM_FILE),
@@ -120,6 +188,20 @@ reg                  f_valid;
 reg                  f_nerr_out;
 reg [L_WIDTH-1:0]    f_nvalid;  // valid strobes of the running line so far
 reg                  f_n_in_start;  // an n write in the start cycle of the running line
+// The data operands (DATA): the registers as written while idle (reset clears C, dz, z0 and
+// n), and the running line's copies
+reg [C_W-1:0]        f_c;
+reg [Z_W-1:0]        f_dz;
+reg [Z_W-1:0]        f_z0;
+reg [9:0]            f_n;
+reg [C_W-1:0]        f_job_c;
+reg [Z_W-1:0]        f_job_dz;
+reg [Z_W-1:0]        f_job_z0;
+reg [9:0]            f_job_n;
+// zeta of the pixel of the next valid strobe: z0 at the start, + dz at each result (the
+// contract's zeta_0 = z0, zeta_i = zeta_(i-1) + dz, in the accumulator's width)
+reg signed [ACC_W-1:0] f_zeta;
+wire signed [ACC_W-1:0] f_job_dz_w = $signed(f_job_dz);
 
 wire [L_WIDTH-1:0]   f_job_l = {2'b00, f_job_len};
 wire                 f_out_now = (f_left != 0) && (f_left <= f_job_l + 1'b1);
@@ -128,10 +210,20 @@ always @(posedge clk) begin
     f_past_valid <= 1'b1;
     f_valid <= 1'b0;
     if (valid) f_nvalid <= f_nvalid + 1'b1;
+    if (valid) f_zeta <= f_zeta + f_job_dz_w;
     if (f_left == 0) begin
         if (len_we) f_len <= len_in;
         if (n_we) f_nerr <= nerr_of(n_in);
+        if (n_we) f_n <= n_in;
+        if (c_we) f_c <= c_in;
+        if (dz_we) f_dz <= dz_in;
+        if (z0_we) f_z0 <= z0_in;
         if (start) begin
+            f_job_c <= f_c;
+            f_job_dz <= f_dz;
+            f_job_z0 <= f_z0;
+            f_job_n <= f_n;
+            f_zeta <= $signed(f_z0);
             f_job_len <= f_len;
             f_job_nerr <= f_nerr;
             f_left <= FILL + {2'b00, f_len};
@@ -152,8 +244,91 @@ always @(posedge clk) begin
         f_valid <= 1'b0;
         f_nerr_out <= 1'b0;
         f_nvalid <= 0;
+        f_c <= {C_W{1'b0}};
+        f_dz <= {Z_W{1'b0}};
+        f_z0 <= {Z_W{1'b0}};
+        f_n <= 10'd0;
     end
 end
+
+// The reference's copies of the committed ROM images (the files the unit reads)
+localparam A_DEPTH = N_LAST - N_FIRST + 1;
+localparam COS_DEPTH = (1 << (TSEL_BITS + ROM_ADDR_BITS));
+reg [A_W-1:0]           f_a_image [0:A_DEPTH-1];
+reg [ROM_DATA_BITS-1:0] f_cos_image [0:COS_DEPTH-1];
+initial begin
+    $readmemh(A_ROM_FILE, f_a_image);
+    $readmemh(COS_ROM_FILE, f_cos_image);
+end
+
+// The expected intensity of the pixel in the valid cycle: pixel f_nvalid of the running line,
+// by the contract's formula on the line's operands (formal/specular_unit_datapath.v)
+wire                 f_want_nerr;
+wire [1:0]           f_want_table;
+wire [A_W-1:0]       f_want_a;
+wire                 f_want_past_half_pi;
+wire [ROM_DATA_BITS-1:0] f_want_word;
+wire                 f_want_clamp_matters;
+wire [9:0]           f_want_a_index;
+wire [31:0]          f_want_cos_index;
+wire [31:0]          f_want_cos_index_u;
+// ROM 12's word of the pixel of the valid cycle: from the reference's copy of the image, or
+// with DATA = 2 the word the unit's ROM returned for it (then the property
+// rom_address_of_the_formula asserts that the unit read it at the reference's address)
+wire [ROM_DATA_BITS-1:0] f_want_cos_word;
+// ROM 9's word of the line: likewise (with DATA = 2 the word the unit read when n was written,
+// rom9_address_of_the_formula asserting the address)
+wire [A_W-1:0]       f_want_a_word;
+`ifndef SPECULAR_INTERNALS
+assign f_want_cos_word = f_cos_image[f_want_cos_index];
+assign f_want_a_word = f_a_image[f_want_a_index];
+`endif
+wire                 f_want_saturated;
+wire [OUT_WIDTH-1:0] f_want;
+generate
+    if (DATA != 0) begin : g_ref
+        specular_unit_ref #(
+            .C_INT_BITS(C_INT_BITS),
+            .C_FRAC_BITS(C_FRAC_BITS),
+            .Z_INT_BITS(Z_INT_BITS),
+            .Z_FRAC_BITS(Z_FRAC_BITS),
+            .LEN_WIDTH(LEN_WIDTH),
+            .A_INT_BITS(A_INT_BITS),
+            .A_FRAC_BITS(A_FRAC_BITS),
+            .ROM_ADDR_BITS(ROM_ADDR_BITS),
+            .ROM_DATA_BITS(ROM_DATA_BITS),
+            .OUT_WIDTH(OUT_WIDTH),
+            .NUM_TABLES(NUM_TABLES),
+            .N_HI0(N_HI0),
+            .N_HI1(N_HI1),
+            .N_HI2(N_HI2),
+            .MAG_INT_BITS(MAG_INT_BITS),
+            .N_FIRST(N_FIRST),
+            .N_LAST(N_LAST)
+        ) want (
+            .c(f_job_c),
+            .zeta(f_zeta),
+            .n(f_job_n),
+            .a_index(f_want_a_index),
+            .a_word(f_want_a_word),
+            .cos_index(f_want_cos_index),
+            .cos_word(f_want_cos_word),
+            .cos_index_u(f_want_cos_index_u),
+            .cos_word_u(f_cos_image[f_want_cos_index_u]),
+            .nerr(f_want_nerr),
+            .table_j(f_want_table),
+            .a(f_want_a),
+            .past_half_pi(f_want_past_half_pi),
+            .word(f_want_word),
+            .clamp_matters(f_want_clamp_matters),
+            .mag(),
+            .scaled(),
+            .addr(),
+            .saturated(f_want_saturated),
+            .out(f_want)
+        );
+    end
+endgenerate
 
 // ---------------------------------------------------------------- the one assumption
 always @(*) begin
@@ -174,7 +349,11 @@ always @(*) begin
         if (check_on(P_NERR_OF_THE_LINE)) n_err_of_the_line: assert(n_err == f_nerr_out);
         // every pixel of a line with an invalid n is 0, whatever the ROM words
         if (ARITH != 0 && check_on(P_NERR_DARK) && valid && f_nerr_out)
-            intensity_zero_on_n_err: assert(intensity == 8'd0);
+            intensity_zero_on_n_err: assert(intensity == 0);
+        // every pixel = the contract's formula on the line's operands (C, dz, z0, n held
+        // before the start cycle's writes) and its index: the reference specular_unit_ref
+        if (DATA != 0 && check_on(P_INTENSITY) && valid)
+            intensity_formula: assert(intensity == f_want);
         if (check_on(P_HELPERS)) begin
             if (f_left != 0) begin
                 h_run_length: assert(f_left <= FILL + f_job_l);
@@ -192,6 +371,17 @@ always @(posedge clk) begin
             reset_idle: assert(!busy && !valid && !n_err);
     end
 end
+
+generate
+    if (DATA != 0 && CLAMP != 0 && (CHECK == 0 || CHECK == P_CLAMP)) begin : g_clamp
+        // the contract: saturating |zeta| never changes a result (the reference's word with
+        // and without it, for the pixel of every valid cycle)
+        always @(*) begin
+            if (f_past_valid && valid)
+                clamp_never_changes_a_result: assert(!f_want_clamp_matters);
+        end
+    end
+endgenerate
 
 // ---------------------------------------------------------------- covers (none is vacuous)
 always @(posedge clk) begin
@@ -213,9 +403,32 @@ always @(posedge clk) begin
     end
 end
 
+generate
+    if (DATA != 0) begin : g_data_covers
+        // the data path's events (with DATA): a lit pixel from each of the four tables, a
+        // saturated one, one past pi/2, a lit one at a negative angle, one whose |zeta| the
+        // unit clamps, a lit third pixel of a line (two additions of dz)
+        always @(posedge clk) begin
+            if (f_past_valid && rst_n && valid && !n_err) begin
+                c_lit_table0: cover(intensity != 0 && f_want_table == 2'd0);
+                c_lit_table1: cover(intensity != 0 && f_want_table == 2'd1);
+                c_lit_table2: cover(intensity != 0 && f_want_table == 2'd2);
+                c_lit_table3: cover(intensity != 0 && f_want_table == 2'd3);
+                c_saturated: cover(intensity == OUT_MAX && f_want_saturated);
+                c_past_half_pi: cover(intensity == 0 && f_want_past_half_pi && f_job_c != 0);
+                c_negative_angle_lit: cover(intensity != 0 && f_zeta < 0);
+                c_clamped: cover((f_zeta < 0 ? -f_zeta : f_zeta) >= (1 << MAG_W));
+                c_third_pixel_lit: cover(intensity != 0 && f_nvalid == 2 && f_job_dz != 0);
+            end
+        end
+    end
+endgenerate
+
 // ---------------------------------------------------------------- induction helpers
 `ifdef SPECULAR_INTERNALS
-// Driven after flatten by the job's script (connect -set f_int_x \dut.x); see the header.
+// Driven after flatten by the job's script (connect -nounset -set f_int_x \dut.x); see the header.
+// (connect -nounset: a plain connect -set would also cut every alias of the wire, such as
+// assign w = f_int_x below.)
 wire [LEN_WIDTH-1:0]  f_int_len;
 wire                  f_int_nerr;
 wire                  f_int_nerr_run;
@@ -224,8 +437,29 @@ wire [LEN_WIDTH-1:0]  f_int_cnt;
 wire [LAST_STAGE:0]   f_int_v;
 wire [LAST_STAGE:1]   f_int_last;
 wire                  f_int_zero;      // read with ARITH = 1 only
-wire [15:0]           f_int_rom_d;
-wire [31:0]           f_int_out_prod;
+wire [ROM_DATA_BITS-1:0] f_int_rom_d;
+wire [OP_W-1:0]       f_int_out_prod;
+// read with DATA = 1 only: the operand registers, the line's copies, the pipeline
+wire [C_W-1:0]        f_int_c;
+wire [Z_W-1:0]        f_int_dz;
+wire [Z_W-1:0]        f_int_z0;
+wire [A_W-1:0]        f_int_a;
+wire [TSEL_BITS-1:0]  f_int_tsel;
+wire [C_W-1:0]        f_int_c_run;
+wire [Z_W-1:0]        f_int_dz_run;
+wire [A_W-1:0]        f_int_a_run;
+wire [TSEL_BITS-1:0]  f_int_tsel_run;
+wire [ACC_W-1:0]      f_int_acc;
+wire [MAG_W-1:0]      f_int_mag_next;
+wire [MAG_W-1:0]      f_int_mag;
+wire [PROD_W-1:0]     f_int_prod;
+wire [RND_W-1:0]      f_int_addr;
+wire [ROM_DATA_BITS-1:0] f_int_rom_q;
+wire [TSEL_BITS+ROM_ADDR_BITS-1:0] f_int_rom_addr;
+localparam A_ADDR_BITS = (A_DEPTH > 512) ? 10 : (A_DEPTH > 256) ? 9 : (A_DEPTH > 128) ? 8
+                       : (A_DEPTH > 64) ? 7 : (A_DEPTH > 32) ? 6 : (A_DEPTH > 16) ? 5
+                       : (A_DEPTH > 8) ? 4 : (A_DEPTH > 4) ? 3 : (A_DEPTH > 2) ? 2 : 1;
+wire [A_ADDR_BITS-1:0] f_int_a_addr;
 
 // The stage flags: the pixel in stage s left S0 s cycles ago; pixel i (0..l) is in S0 while
 // f_left = 8 + l - i, so stage s holds a pixel iff 8 <= f_left + s <= 8 + l
@@ -258,8 +492,196 @@ generate
         always @(*) begin
             if (f_past_valid && check_on(P_HELPERS) && f_job_nerr && f_left != 0) begin
                 if (f_v_want[5]) h_zero_reg: assert(f_int_zero);
-                if (f_v_want[6]) h_rom_d_reg: assert(f_int_rom_d == 16'd0);
-                if (f_v_want[7]) h_out_prod_reg: assert(f_int_out_prod == 32'd0);
+                if (f_v_want[6]) h_rom_d_reg: assert(f_int_rom_d == 0);
+                if (f_v_want[7]) h_out_prod_reg: assert(f_int_out_prod == 0);
+            end
+        end
+    end
+    if (DATA != 0) begin : g_data_helpers
+        // The operand registers hold the last write accepted while idle (a and the table as
+        // ROM 9 and the decoder give them for a valid n), the line's copies the values of its
+        // start, and stage s (0..7) the pixel f_left + s - 8 steps into the line, as the
+        // reference computes it: S0 zeta, S1 and S2 |zeta| clamped to MAG_W bits, S3 times a,
+        // S4 rounded, S5 the gated word, S6 the word, S7 C times the word.
+        wire                 op_nerr;
+        wire [1:0]           op_table;
+        wire [A_W-1:0]       op_a;
+        wire [9:0]           op_a_index;
+        wire [A_W-1:0]       op_a_word;  // ROM 9's word of n (DATA = 2: the unit's read)
+        if (DATA == 2) begin : g_op_unit
+            assign op_a_word = f_int_a;
+        end else begin : g_op_image
+            assign op_a_word = f_a_image[op_a_index];
+        end
+        specular_unit_ref #(
+            .C_INT_BITS(C_INT_BITS), .C_FRAC_BITS(C_FRAC_BITS), .Z_INT_BITS(Z_INT_BITS),
+            .Z_FRAC_BITS(Z_FRAC_BITS), .LEN_WIDTH(LEN_WIDTH), .A_INT_BITS(A_INT_BITS),
+            .A_FRAC_BITS(A_FRAC_BITS), .ROM_ADDR_BITS(ROM_ADDR_BITS),
+            .ROM_DATA_BITS(ROM_DATA_BITS), .OUT_WIDTH(OUT_WIDTH), .NUM_TABLES(NUM_TABLES),
+            .N_HI0(N_HI0), .N_HI1(N_HI1), .N_HI2(N_HI2), .MAG_INT_BITS(MAG_INT_BITS),
+            .N_FIRST(N_FIRST), .N_LAST(N_LAST)
+        ) op_ref (
+            .c(f_c), .zeta({ACC_W{1'b0}}), .n(f_n), .a_index(op_a_index),
+            .a_word(op_a_word), .cos_index(),
+            .cos_word({ROM_DATA_BITS{1'b0}}),
+            .cos_index_u(), .cos_word_u({ROM_DATA_BITS{1'b0}}), .nerr(op_nerr),
+            .table_j(op_table), .a(op_a),
+            .past_half_pi(), .word(), .clamp_matters(),
+            .mag(), .scaled(), .addr(), .saturated(), .out()
+        );
+        always @(*) begin
+            if (f_past_valid && check_on(P_HELPERS)) begin
+                // the reference's own n error flags are those of its n
+                h_f_nerr: assert(f_nerr == nerr_of(f_n));
+                if (f_left != 0) h_f_job_nerr: assert(f_job_nerr == nerr_of(f_job_n));
+                h_c_reg: assert(f_int_c == f_c);
+                h_dz_reg: assert(f_int_dz == f_dz);
+                h_z0_reg: assert(f_int_z0 == f_z0);
+                if (!op_nerr) begin
+                    h_a_reg: assert(f_int_a == op_a);
+                    h_tsel_reg: assert(f_int_tsel == op_table[TSEL_BITS-1:0]);
+                end
+                if (f_left != 0) begin
+                    h_c_run_reg: assert(f_int_c_run == f_job_c);
+                    h_dz_run_reg: assert(f_int_dz_run == f_job_dz);
+                end
+            end
+        end
+        // zeta of the pixel in each stage, for the helpers: stage 0 starts at z0 and adds dz
+        // per clock, each stage takes the one before it
+        wire signed [ACC_W-1:0] f_zeta_next = valid ? f_zeta + f_job_dz_w : f_zeta;
+        // ROM 12's words: the reference's copy, or with DATA = 2 the unit's reads (rom_q_reg
+        // holds the word of the pixel in S5, read at the address f_ra5), delayed with it
+        reg [ROM_DATA_BITS-1:0] f_w6;
+        reg [ROM_DATA_BITS-1:0] f_w7;
+        reg [ROM_DATA_BITS-1:0] f_w8;
+        reg [TSEL_BITS+ROM_ADDR_BITS-1:0] f_ra5;
+        always @(posedge clk) begin
+            f_w6 <= f_int_rom_q;
+            f_w7 <= f_w6;
+            f_w8 <= f_w7;
+            f_ra5 <= f_int_rom_addr;
+        end
+        genvar g;
+        for (g = 0; g <= LAST_STAGE; g = g + 1) begin : g_stage
+            // the pixel in stage g (index pix of the line) and its zeta
+            wire [L_WIDTH-1:0]       pix = FILL + f_job_l - f_left - g;
+            // (one register per stage: stage 0 starts at z0 and adds dz per clock, each other
+            // stage takes the one before it)
+            reg signed [ACC_W-1:0]   zeta;
+            if (g == 0) begin : g_first
+                always @(posedge clk) zeta <= (f_left == 0 && start) ? $signed(f_z0)
+                                                                     : zeta + f_job_dz_w;
+            end else begin : g_next
+                always @(posedge clk) zeta <= g_stage[g-1].zeta;
+            end
+            wire [MAG_W-1:0]         mag;
+            wire [PROD_W-1:0]        prod;
+            wire [PROD_W:0]          rnd;
+            wire                     nerr;
+            wire [1:0]               table_j;
+            wire [A_W-1:0]           a;
+            wire [ROM_DATA_BITS-1:0] word;
+            wire                     past_half_pi;
+            wire [9:0]               a_index;
+            wire [31:0]              cos_index;
+            wire [ROM_DATA_BITS-1:0] word_in;  // ROM 12's word at cos_index (see f_w)
+            wire [A_W-1:0]           a_word;   // ROM 9's word of the line's n
+            if (DATA == 2 && g >= 5) begin : g_unit
+                assign word_in = (g == 5) ? f_int_rom_q
+                                          : (g == 6) ? f_w6 : f_w7;
+            end else begin : g_image
+                assign word_in = f_cos_image[cos_index];
+            end
+            if (DATA == 2) begin : g_a_unit
+                assign a_word = f_int_a_run;
+            end else begin : g_a_image
+                assign a_word = f_a_image[a_index];
+            end
+            specular_unit_ref #(
+                .C_INT_BITS(C_INT_BITS), .C_FRAC_BITS(C_FRAC_BITS), .Z_INT_BITS(Z_INT_BITS),
+                .Z_FRAC_BITS(Z_FRAC_BITS), .LEN_WIDTH(LEN_WIDTH), .A_INT_BITS(A_INT_BITS),
+                .A_FRAC_BITS(A_FRAC_BITS), .ROM_ADDR_BITS(ROM_ADDR_BITS),
+                .ROM_DATA_BITS(ROM_DATA_BITS), .OUT_WIDTH(OUT_WIDTH), .NUM_TABLES(NUM_TABLES),
+                .N_HI0(N_HI0), .N_HI1(N_HI1), .N_HI2(N_HI2), .MAG_INT_BITS(MAG_INT_BITS),
+                .N_FIRST(N_FIRST), .N_LAST(N_LAST)
+            ) stage_ref (
+                .c(f_job_c), .zeta(zeta), .n(f_job_n), .a_index(a_index),
+                .a_word(a_word), .cos_index(cos_index),
+                .cos_word(word_in), .cos_index_u(),
+                .cos_word_u({ROM_DATA_BITS{1'b0}}), .nerr(nerr), .table_j(table_j), .a(a),
+                .past_half_pi(past_half_pi), .word(word), .clamp_matters(), .mag(mag),
+                .scaled(prod), .addr(rnd), .saturated(), .out()
+            );
+        end
+        if (DATA == 2) begin : g_want_unit
+            assign f_want_cos_word = f_w8;
+            assign f_want_a_word = f_int_a_run;
+            always @(*) begin
+                if (f_past_valid && check_on(P_ROM_ADDR) && !busy && n_we && !nerr_of(n_in))
+                    rom9_address_of_the_formula: assert(f_int_a_addr == n_in - N_FIRST);
+            end
+            always @(*) begin
+                if (f_past_valid && check_on(P_ROM_ADDR) && f_v_want[5] && !g_stage[5].nerr
+                    && !g_stage[5].past_half_pi)
+                    rom_address_of_the_formula: assert(
+                        f_ra5 == g_stage[5].cos_index[TSEL_BITS+ROM_ADDR_BITS-1:0]);
+            end
+        end else begin : g_want_image
+            assign f_want_cos_word = f_cos_image[f_want_cos_index];
+            assign f_want_a_word = f_a_image[f_want_a_index];
+        end
+        // (hierarchical names: a label inside the loop would repeat per iteration)
+        always @(*) begin
+            if (f_past_valid && check_on(P_HELPERS) && f_left != 0 && !g_stage[0].nerr) begin
+                // the line's a and table, from its start to its last result
+                h_a_run_reg: assert(f_int_a_run == g_stage[0].a);
+                h_tsel_run_reg: assert(f_int_tsel_run == g_stage[0].table_j[TSEL_BITS-1:0]);
+                if (f_v_want[0]) h_acc_reg: assert(f_int_acc == g_stage[0].zeta);
+                // before the line's first result f_zeta is z0; the stage of pixel 0 holds z0,
+                // neighbouring stages differ by dz, and stage 7's pixel is the next result's
+                if (f_left > f_job_l) h_zeta_fill: assert(f_zeta == $signed(f_job_z0));
+                if (f_v_want[7])
+                    h_zs_out: assert(g_stage[7].zeta == f_zeta_next);
+                if (f_v_want[0] && g_stage[0].pix == 0)
+                    h_zs_first_0: assert(g_stage[0].zeta == $signed(f_job_z0));
+                if (f_v_want[1] && g_stage[1].pix == 0)
+                    h_zs_first_1: assert(g_stage[1].zeta == $signed(f_job_z0));
+                if (f_v_want[2] && g_stage[2].pix == 0)
+                    h_zs_first_2: assert(g_stage[2].zeta == $signed(f_job_z0));
+                if (f_v_want[3] && g_stage[3].pix == 0)
+                    h_zs_first_3: assert(g_stage[3].zeta == $signed(f_job_z0));
+                if (f_v_want[4] && g_stage[4].pix == 0)
+                    h_zs_first_4: assert(g_stage[4].zeta == $signed(f_job_z0));
+                if (f_v_want[5] && g_stage[5].pix == 0)
+                    h_zs_first_5: assert(g_stage[5].zeta == $signed(f_job_z0));
+                if (f_v_want[6] && g_stage[6].pix == 0)
+                    h_zs_first_6: assert(g_stage[6].zeta == $signed(f_job_z0));
+                if (f_v_want[7] && g_stage[7].pix == 0)
+                    h_zs_first_7: assert(g_stage[7].zeta == $signed(f_job_z0));
+                if (f_v_want[0] && f_v_want[1])
+                    h_zs_step_0: assert(g_stage[0].zeta == g_stage[1].zeta + f_job_dz_w);
+                if (f_v_want[1] && f_v_want[2])
+                    h_zs_step_1: assert(g_stage[1].zeta == g_stage[2].zeta + f_job_dz_w);
+                if (f_v_want[2] && f_v_want[3])
+                    h_zs_step_2: assert(g_stage[2].zeta == g_stage[3].zeta + f_job_dz_w);
+                if (f_v_want[3] && f_v_want[4])
+                    h_zs_step_3: assert(g_stage[3].zeta == g_stage[4].zeta + f_job_dz_w);
+                if (f_v_want[4] && f_v_want[5])
+                    h_zs_step_4: assert(g_stage[4].zeta == g_stage[5].zeta + f_job_dz_w);
+                if (f_v_want[5] && f_v_want[6])
+                    h_zs_step_5: assert(g_stage[5].zeta == g_stage[6].zeta + f_job_dz_w);
+                if (f_v_want[6] && f_v_want[7])
+                    h_zs_step_6: assert(g_stage[6].zeta == g_stage[7].zeta + f_job_dz_w);
+                if (f_v_want[1]) h_mag_next: assert(f_int_mag_next == g_stage[1].mag);
+                if (f_v_want[2]) h_mag_reg: assert(f_int_mag == g_stage[2].mag);
+                if (f_v_want[3]) h_prod_reg: assert(f_int_prod == g_stage[3].prod);
+                if (f_v_want[4]) h_addr_reg: assert(f_int_addr == g_stage[4].rnd[RND_W-1:0]);
+                if (f_v_want[5])
+                    h_rom_q_reg: assert((f_int_zero ? 0 : f_int_rom_q) == g_stage[5].word);
+                if (f_v_want[6]) h_rom_d_word: assert(f_int_rom_d == g_stage[6].word);
+                if (f_v_want[7])
+                    h_out_prod_word: assert(f_int_out_prod == f_job_c * g_stage[7].word);
             end
         end
     end

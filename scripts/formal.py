@@ -6,8 +6,9 @@ k-induction, the quotient, every cover reached, every property failing on a deli
 copy of the RTL, the released divider (before commit ce5dedb, formal/divider_shift_released.v)
 failing its div_zero property, and the synthesised netlist proven equal to the RTL; the same
 for the segment Gouraud unit (--units gouraud_segment, model.hw.formal_gouraud), and the
-specular unit's protocol proof, covers and deliberate errors (--units specular_unit,
-model.hw.formal_specular).  The table is printed and written with every result to
+specular unit's protocol proof, covers and deliberate errors, its intensities proven equal to a
+reference formula and its netlist equivalence at a reduced configuration (--units
+specular_unit, model.hw.formal_specular).  The table is printed and written with every result to
 ``<out>/formal.json``.  Exit status 1 if a job does not give the outcome it requires, 2 on bad
 arguments or a missing tool.
 

@@ -10,7 +10,8 @@ The segment Gouraud unit's quick jobs (``model.hw.formal_gouraud``) at its small
 the protocol properties proven by k-induction, every cover reached, the valid_exact property
 failing on its mutant.  The specular unit's (``model.hw.formal_specular``, default
 configuration): its protocol properties proven by k-induction, every cover reached, the
-n_err_of_the_line property failing on its mutant.
+n_err_of_the_line property failing on its mutant; and at its small configuration every
+intensity proven equal to the reference formula (formal/specular_unit_datapath.v).
 Also: the property files, the mutants and docs/formal.md agree, and bad input to the Python calls
 and the command line is refused with a message naming it.
 """
@@ -103,7 +104,14 @@ def test_quick_gouraud_protocol_covers_and_mutant(quick) -> None:
 
 def test_quick_specular_protocol_covers_and_mutant(quick) -> None:
     check_unit_quick(quick, "specular_unit", "default", formal_specular,
-                     formal_specular.PROPERTIES, "n_err_leak", "n_err_of_the_line")  # fmt: skip
+                     formal_specular.PROTOCOL, "n_err_leak", "n_err_of_the_line")  # fmt: skip
+
+
+def test_quick_specular_intensities_are_proven_at_small(quick) -> None:
+    r = quick["specular_unit_prove_small"]
+    assert r.ok and r.status == "proven", r.detail
+    assert {"intensity_formula", formal_specular.REFERENCE} <= set(r.job.properties)
+    assert dict(r.rows)["intensity_formula"] == "proven"
 
 
 def check_property_file(props, module, unit: str, labels: list[str]) -> list:
@@ -128,10 +136,20 @@ def check_property_file(props, module, unit: str, labels: list[str]) -> list:
 
 
 def test_specular_property_file_mutants_and_doc_agree() -> None:
-    labels = [*formal_specular.PROPERTIES, *formal_specular.COVERS]
-    full = check_property_file(SPECULAR_PROPS, formal_specular, "specular_unit", labels)
-    assert {j.kind for j in full} >= {"prove", "cover", "mutant"}
-    assert len([j for j in full if j.kind == "mutant"]) == len(formal_specular.MUTANTS)
+    m = formal_specular
+    labels = [*m.PROPERTIES, m.REFERENCE, m.ROM_ADDRESS, *m.COVERS, *m.DATA_COVERS]
+    full = check_property_file(SPECULAR_PROPS, m, "specular_unit", labels)
+    assert {j.kind for j in full} == {"prove", "cover", "mutant", "equiv"}
+    assert len([j for j in full if j.kind == "mutant"]) == len(m.MUTANTS)
+    # the data path: proven at small (with the reference's own property), bounded at default
+    small = next(j for j in full if j.kind == "prove" and j.config == "small")
+    assert set(small.properties) == {*m.PROPERTIES, m.REFERENCE}
+    bmc = m.jobs(formal.FormalJob, default_bmc=True)  # not in make formal (docs/formal.md)
+    assert any(j.kind == "bmc" and j.config == "default" for j in bmc)
+    # the reference is its own file, not the RTL's pipeline: no register, no stage name
+    ref = m.REFERENCE_FILE.read_text()
+    assert ref.splitlines()[0] == "// SPDX-License-Identifier: Apache-2.0"
+    assert "always" not in ref and "_reg" not in ref
 
 
 def test_gouraud_property_file_mutants_and_doc_agree() -> None:

