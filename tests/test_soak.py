@@ -32,7 +32,7 @@ pytestmark = pytest.mark.sim
 SHORT_SOAK = 20_000
 # The default configurations' soaks (a Gouraud or specular cycle gives about 0.6 results, a
 # divider cycle 0.1): the Python prediction, about 50k cycles/s, is what they cost.
-DEEP_CYCLES = {"divider_default": 150_000, "gouraud_default": 300_000, "specular_default": 300_000}
+DEEP_CYCLES = {"divider_default": 150_000, "gouraud_default": 350_000, "specular_default": 350_000}
 
 # Every unit's default configuration deep; a few others for 20k.
 CONFIGS = {
