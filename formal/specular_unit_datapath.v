@@ -42,7 +42,10 @@ module specular_unit_ref #(
     parameter N_HI2 = 6,
     parameter MAG_INT_BITS = 1,
     parameter N_FIRST = 1,
-    parameter N_LAST = 1000
+    parameter N_LAST = 1000,
+    // 1: the two products (scaled = mag * a, lit = C * word) are inputs, computed outside on
+    // operands the caller asserts equal to mag, a, c and word (the bounded check at the default)
+    parameter EXT_PRODUCTS = 0
 ) (
     input  wire [C_INT_BITS+C_FRAC_BITS-1:0] c,
     input  wire signed [Z_INT_BITS+Z_FRAC_BITS+LEN_WIDTH-1:0] zeta,
@@ -63,7 +66,10 @@ module specular_unit_ref #(
     output wire [MAG_INT_BITS+Z_FRAC_BITS+A_INT_BITS+A_FRAC_BITS-1:0] scaled,
     output wire [MAG_INT_BITS+Z_FRAC_BITS+A_INT_BITS+A_FRAC_BITS:0] addr,
     output wire                              saturated,     // the rounded product > the max
-    output wire [OUT_WIDTH-1:0]              out
+    output wire [OUT_WIDTH-1:0]              out,
+    // with EXT_PRODUCTS = 1: mag * a and C * word (else unused)
+    input  wire [MAG_INT_BITS+Z_FRAC_BITS+A_INT_BITS+A_FRAC_BITS-1:0] scaled_in,
+    input  wire [C_INT_BITS+C_FRAC_BITS+ROM_DATA_BITS:0] lit_in
 );
 
 localparam Z_W = Z_INT_BITS + Z_FRAC_BITS;
@@ -87,7 +93,16 @@ wire [RW-1:0] abs_zeta = zeta_w[RW-1] ? -zeta_w : zeta_w;
 
 assign mag = (abs_zeta >= (1 << MAG_W)) ? {MAG_W{1'b1}} : abs_zeta[MAG_W-1:0];
 
-assign scaled = mag * a;  // exact
+wire [OW-1:0] lit;
+generate
+    if (EXT_PRODUCTS != 0) begin : g_ext
+        assign scaled = scaled_in;
+        assign lit = lit_in;
+    end else begin : g_own
+        assign scaled = mag * a;  // exact
+        assign lit = {{(ROM_DATA_BITS+1){1'b0}}, c} * {{(C_W+1){1'b0}}, word};
+    end
+endgenerate
 assign addr = ({1'b0, scaled} + (1 << (SHIFT - 1))) >> SHIFT;
 assign past_half_pi = addr >= TABLE;
 assign cos_index = table_j * TABLE + addr[ROM_ADDR_BITS-1:0];
@@ -100,7 +115,6 @@ assign cos_index_u = table_j * TABLE + addr_u[ROM_ADDR_BITS-1:0];
 wire [ROM_DATA_BITS-1:0] word_u = (nerr || addr_u >= TABLE) ? {ROM_DATA_BITS{1'b0}} : cos_word_u;
 assign clamp_matters = word_u != word;
 
-wire [OW-1:0] lit = {{(ROM_DATA_BITS+1){1'b0}}, c} * {{(C_W+1){1'b0}}, word};
 wire [OW-1:0] rounded = (lit + ({{(OW-1){1'b0}}, 1'b1} << (OSHIFT - 1))) >> OSHIFT;
 assign saturated = rounded > ((1 << OUT_WIDTH) - 1);
 assign out = nerr ? {OUT_WIDTH{1'b0}} : saturated ? {OUT_WIDTH{1'b1}} : rounded[OUT_WIDTH-1:0];

@@ -23,15 +23,20 @@
  * DATA = 1: also intensity_formula, every intensity equal to specular_unit_ref
  * (formal/specular_unit_datapath.v: the contract's formula) of f_zeta and the line's C and n,
  * with the ROM words from this file's own copies of the committed images (f_a_image,
- * f_cos_image); CLAMP = 1 adds clamp_never_changes_a_result.  DATA = 2 (a bounded check with
- * the helpers): the same with the words the unit's ROMs returned, their addresses asserted
- * equal to the formula's (rom_address_of_the_formula, rom9_address_of_the_formula).
+ * f_cos_image); CLAMP = 1 adds clamp_never_changes_a_result.  DATA = 2 (the bounded check at
+ * the default, HELPERS = 0): the same with the words the unit's ROMs returned and the two
+ * products computed here from the unit's operand registers (the RTL's expression, which Yosys
+ * merges with the unit's $mul), carried to the pixel's result; intensity_formula then also
+ * asserts that the ROM addresses and the products' operands were the formula's (f_taken_ok).
+ * CHECK 1..5 (a protocol property alone) leave the reference out (D_EFF = 0).
  * One labelled assert per property (busy_exact, ...), numbered by the P_* localparams.
  * CHECK = 0: every assert; n: only number n (the deliberate-error runs); 99: none (covers).
  *
- * Induction helpers (`ifdef SPECULAR_INTERNALS): the f_int_* wires are left undriven here and
- * the job's Yosys script connects them after `flatten` to the flattened registers
- * (connect -nounset -set f_int_cnt \dut.cnt_reg, ...).  They are asserted, never assumed.
+ * Induction helpers: the f_int_* wires are left undriven here and the job's Yosys script
+ * connects them after `flatten` to the flattened registers (connect -nounset -set f_int_cnt
+ * \dut.cnt_reg, ...); the protocol helpers only with `define SPECULAR_INTERNALS (prove and
+ * bmc jobs), the data path's also with DATA (the data mutant at the default reads the
+ * connections too, made by its memory script).  They are asserted, never assumed.
  *
  * The one assumption: reset (rst_n = 0) in the first cycle.  Everything else is free.
  */
@@ -73,6 +78,9 @@ module specular_unit_formal #(
     parameter DATA = 0,
     // 1 (with DATA): also prove clamp_never_changes_a_result
     parameter CLAMP = 0,
+    // 0: the induction helpers are not asserted (the bounded check at the default, where they
+    // are not needed and cost more solver time than they save)
+    parameter HELPERS = 1,
     parameter CHECK = 0
 ) (
     input wire                              clk,
@@ -113,8 +121,11 @@ localparam P_RESET_IDLE = 4;
 localparam P_NERR_DARK = 5;
 localparam P_INTENSITY = 6;
 localparam P_CLAMP = 7;
-localparam P_ROM_ADDR = 8;
 localparam P_HELPERS = 9;
+// DATA as used: 0 in the jobs that check a protocol property alone (CHECK 1..5), so that they
+// carry no reference (its disabled asserts would stay in the model)
+localparam D_EFF = (CHECK == 0 || CHECK == P_INTENSITY || CHECK == P_CLAMP || CHECK == P_HELPERS
+                    || CHECK == 99) ? DATA : 0;
 
 wire                 busy;
 wire                 valid;
@@ -174,7 +185,7 @@ function nerr_of(input [9:0] n);
 endfunction
 
 function check_on(input integer p);
-    check_on = (CHECK == 0) || (CHECK == p);
+    check_on = ((CHECK == 0) || (CHECK == p)) && (p != P_HELPERS || HELPERS != 0);
 endfunction
 
 // ---------------------------------------------------------------- reference model
@@ -273,20 +284,23 @@ wire [9:0]           f_want_a_index;
 wire [31:0]          f_want_cos_index;
 wire [31:0]          f_want_cos_index_u;
 // ROM 12's word of the pixel of the valid cycle: from the reference's copy of the image, or
-// with DATA = 2 the word the unit's ROM returned for it (then the property
-// rom_address_of_the_formula asserts that the unit read it at the reference's address)
+// with DATA = 2 the word the unit's ROM returned for it (then intensity_formula also asserts
+// that the unit read it at the reference's address)
 wire [ROM_DATA_BITS-1:0] f_want_cos_word;
 // ROM 9's word of the line: likewise (with DATA = 2 the word the unit read when n was written,
-// rom9_address_of_the_formula asserting the address)
+// its address asserted likewise)
 wire [A_W-1:0]       f_want_a_word;
-`ifndef SPECULAR_INTERNALS
-assign f_want_cos_word = f_cos_image[f_want_cos_index];
-assign f_want_a_word = f_a_image[f_want_a_index];
-`endif
+wire [MAG_W-1:0]     f_want_mag;
+// With DATA = 2 the reference's two products: the property file's own multiplications of the
+// unit's operand registers, carried with the pixel to its result (f_o_*: see g_data_helpers),
+// the operands asserted equal to the formula's (f_taken_ok, part of intensity_formula)
+wire [PROD_W-1:0]    f_o_p;
+wire [OP_W-1:0]      f_o_q;
+wire                 f_taken_ok;
 wire                 f_want_saturated;
 wire [OUT_WIDTH-1:0] f_want;
 generate
-    if (DATA != 0) begin : g_ref
+    if (D_EFF != 0) begin : g_ref
         specular_unit_ref #(
             .C_INT_BITS(C_INT_BITS),
             .C_FRAC_BITS(C_FRAC_BITS),
@@ -304,7 +318,8 @@ generate
             .N_HI2(N_HI2),
             .MAG_INT_BITS(MAG_INT_BITS),
             .N_FIRST(N_FIRST),
-            .N_LAST(N_LAST)
+            .N_LAST(N_LAST),
+            .EXT_PRODUCTS(D_EFF == 2)
         ) want (
             .c(f_job_c),
             .zeta(f_zeta),
@@ -321,11 +336,13 @@ generate
             .past_half_pi(f_want_past_half_pi),
             .word(f_want_word),
             .clamp_matters(f_want_clamp_matters),
-            .mag(),
+            .mag(f_want_mag),
             .scaled(),
             .addr(),
             .saturated(f_want_saturated),
-            .out(f_want)
+            .out(f_want),
+            .scaled_in(f_o_p),
+            .lit_in({1'b0, f_o_q})
         );
     end
 endgenerate
@@ -352,8 +369,10 @@ always @(*) begin
             intensity_zero_on_n_err: assert(intensity == 0);
         // every pixel = the contract's formula on the line's operands (C, dz, z0, n held
         // before the start cycle's writes) and its index: the reference specular_unit_ref
-        if (DATA != 0 && check_on(P_INTENSITY) && valid)
-            intensity_formula: assert(intensity == f_want);
+        // (DATA = 2: the ROM words and the products the reference took from the unit's reads
+        // and operand registers are those of the formula's addresses and operands: f_taken_ok)
+        if (D_EFF != 0 && check_on(P_INTENSITY) && valid)
+            intensity_formula: assert(intensity == f_want && (D_EFF != 2 || f_taken_ok));
         if (check_on(P_HELPERS)) begin
             if (f_left != 0) begin
                 h_run_length: assert(f_left <= FILL + f_job_l);
@@ -373,7 +392,7 @@ always @(posedge clk) begin
 end
 
 generate
-    if (DATA != 0 && CLAMP != 0 && (CHECK == 0 || CHECK == P_CLAMP)) begin : g_clamp
+    if (D_EFF != 0 && CLAMP != 0 && (CHECK == 0 || CHECK == P_CLAMP)) begin : g_clamp
         // the contract: saturating |zeta| never changes a result (the reference's word with
         // and without it, for the pixel of every valid cycle)
         always @(*) begin
@@ -404,7 +423,7 @@ always @(posedge clk) begin
 end
 
 generate
-    if (DATA != 0) begin : g_data_covers
+    if (D_EFF != 0) begin : g_data_covers
         // the data path's events (with DATA): a lit pixel from each of the four tables, a
         // saturated one, one past pi/2, a lit one at a negative angle, one whose |zeta| the
         // unit clamps, a lit third pixel of a line (two additions of dz)
@@ -425,7 +444,6 @@ generate
 endgenerate
 
 // ---------------------------------------------------------------- induction helpers
-`ifdef SPECULAR_INTERNALS
 // Driven after flatten by the job's script (connect -nounset -set f_int_x \dut.x); see the header.
 // (connect -nounset: a plain connect -set would also cut every alias of the wire, such as
 // assign w = f_int_x below.)
@@ -473,6 +491,7 @@ always @(*) begin
     end
 end
 
+`ifdef SPECULAR_INTERNALS
 always @(*) begin
     if (f_past_valid && check_on(P_HELPERS)) begin
         h_len_reg: assert(f_int_len == f_len);
@@ -484,8 +503,10 @@ always @(*) begin
         if (f_left != 0) h_nerr_run_reg: assert(f_int_nerr_run == f_job_nerr);
     end
 end
+`endif
 
 generate
+`ifdef SPECULAR_INTERNALS
     if (ARITH != 0) begin : g_data
         // the data path of an invalid n's pixels: the zero gate (S5), the gated word (S6), the
         // product (S7)
@@ -497,7 +518,8 @@ generate
             end
         end
     end
-    if (DATA != 0) begin : g_data_helpers
+`endif
+    if (D_EFF != 0) begin : g_data_helpers
         // The operand registers hold the last write accepted while idle (a and the table as
         // ROM 9 and the decoder give them for a valid n), the line's copies the values of its
         // start, and stage s (0..7) the pixel f_left + s - 8 steps into the line, as the
@@ -508,7 +530,7 @@ generate
         wire [A_W-1:0]       op_a;
         wire [9:0]           op_a_index;
         wire [A_W-1:0]       op_a_word;  // ROM 9's word of n (DATA = 2: the unit's read)
-        if (DATA == 2) begin : g_op_unit
+        if (D_EFF == 2) begin : g_op_unit
             assign op_a_word = f_int_a;
         end else begin : g_op_image
             assign op_a_word = f_a_image[op_a_index];
@@ -527,7 +549,8 @@ generate
             .cos_index_u(), .cos_word_u({ROM_DATA_BITS{1'b0}}), .nerr(op_nerr),
             .table_j(op_table), .a(op_a),
             .past_half_pi(), .word(), .clamp_matters(),
-            .mag(), .scaled(), .addr(), .saturated(), .out()
+            .mag(), .scaled(), .addr(), .saturated(), .out(),
+            .scaled_in({PROD_W{1'b0}}), .lit_in({(OP_W+1){1'b0}})
         );
         always @(*) begin
             if (f_past_valid && check_on(P_HELPERS)) begin
@@ -575,6 +598,28 @@ generate
             end else begin : g_next
                 always @(posedge clk) zeta <= g_stage[g-1].zeta;
             end
+            // DATA = 2: multiplier 11's operands (pm, pa) and product (p) of the pixel in
+            // stage g = 3..7: stage 3 takes the unit's operand registers of the cycle before
+            // and this file's own product of them, written as the RTL writes it (the same
+            // widths and expression on the same registers: after flatten Yosys merges the two
+            // $mul cells, so the solver never compares two multipliers); each later stage takes
+            // the one before it
+            reg [MAG_W-1:0]          pm;
+            reg [A_W-1:0]            pa;
+            reg [PROD_W-1:0]         p;
+            if (D_EFF == 2 && g == 3) begin : g_mul11
+                always @(posedge clk) begin
+                    pm <= f_int_mag;
+                    pa <= f_int_a_run;
+                    p <= f_int_mag * f_int_a_run;
+                end
+            end else if (D_EFF == 2 && g > 3) begin : g_mul11_next
+                always @(posedge clk) begin
+                    pm <= g_stage[g-1].pm;
+                    pa <= g_stage[g-1].pa;
+                    p <= g_stage[g-1].p;
+                end
+            end
             wire [MAG_W-1:0]         mag;
             wire [PROD_W-1:0]        prod;
             wire [PROD_W:0]          rnd;
@@ -587,13 +632,13 @@ generate
             wire [31:0]              cos_index;
             wire [ROM_DATA_BITS-1:0] word_in;  // ROM 12's word at cos_index (see f_w)
             wire [A_W-1:0]           a_word;   // ROM 9's word of the line's n
-            if (DATA == 2 && g >= 5) begin : g_unit
+            if (D_EFF == 2 && g >= 5) begin : g_unit
                 assign word_in = (g == 5) ? f_int_rom_q
                                           : (g == 6) ? f_w6 : f_w7;
             end else begin : g_image
                 assign word_in = f_cos_image[cos_index];
             end
-            if (DATA == 2) begin : g_a_unit
+            if (D_EFF == 2) begin : g_a_unit
                 assign a_word = f_int_a_run;
             end else begin : g_a_image
                 assign a_word = f_a_image[a_index];
@@ -604,32 +649,74 @@ generate
                 .A_FRAC_BITS(A_FRAC_BITS), .ROM_ADDR_BITS(ROM_ADDR_BITS),
                 .ROM_DATA_BITS(ROM_DATA_BITS), .OUT_WIDTH(OUT_WIDTH), .NUM_TABLES(NUM_TABLES),
                 .N_HI0(N_HI0), .N_HI1(N_HI1), .N_HI2(N_HI2), .MAG_INT_BITS(MAG_INT_BITS),
-                .N_FIRST(N_FIRST), .N_LAST(N_LAST)
+                .N_FIRST(N_FIRST), .N_LAST(N_LAST), .EXT_PRODUCTS(D_EFF == 2 && g >= 3)
             ) stage_ref (
                 .c(f_job_c), .zeta(zeta), .n(f_job_n), .a_index(a_index),
                 .a_word(a_word), .cos_index(cos_index),
                 .cos_word(word_in), .cos_index_u(),
                 .cos_word_u({ROM_DATA_BITS{1'b0}}), .nerr(nerr), .table_j(table_j), .a(a),
                 .past_half_pi(past_half_pi), .word(word), .clamp_matters(), .mag(mag),
-                .scaled(prod), .addr(rnd), .saturated(), .out()
+                .scaled(prod), .addr(rnd), .saturated(), .out(),
+                .scaled_in(p), .lit_in({(OP_W+1){1'b0}})
             );
         end
-        if (DATA == 2) begin : g_want_unit
+        // DATA = 2: what the reference takes from the unit, carried to the pixel's result:
+        // multiplier 11's operands and product (from stage 7), multiplier 13's (its operand
+        // registers c_run_reg and rom_d_reg in stage 6, this file's own product of them as the
+        // RTL writes it), the ROM-12 address of the word f_w8 (f_ra5..f_ra8) and ROM 9's
+        // address of the line's a (read when n is written while idle, copied at the start,
+        // as the unit reads and copies a_reg)
+        reg [C_W-1:0]           f_pc7;
+        reg [ROM_DATA_BITS-1:0] f_pw7;
+        reg [OP_W-1:0]          f_q7;
+        reg [MAG_W-1:0]         f_o_pm;
+        reg [A_W-1:0]           f_o_pa;
+        reg [PROD_W-1:0]        f_o_p_r;
+        reg [C_W-1:0]           f_o_pc;
+        reg [ROM_DATA_BITS-1:0] f_o_pw;
+        reg [OP_W-1:0]          f_o_q_r;
+        reg [TSEL_BITS+ROM_ADDR_BITS-1:0] f_ra6;
+        reg [TSEL_BITS+ROM_ADDR_BITS-1:0] f_ra7;
+        reg [TSEL_BITS+ROM_ADDR_BITS-1:0] f_ra8;
+        reg [A_ADDR_BITS-1:0]   f_a_addr_rd;
+        reg [A_ADDR_BITS-1:0]   f_a_addr_run;
+        if (D_EFF == 2) begin : g_want_unit
             assign f_want_cos_word = f_w8;
             assign f_want_a_word = f_int_a_run;
-            always @(*) begin
-                if (f_past_valid && check_on(P_ROM_ADDR) && !busy && n_we && !nerr_of(n_in))
-                    rom9_address_of_the_formula: assert(f_int_a_addr == n_in - N_FIRST);
+            always @(posedge clk) begin
+                f_o_pm <= g_stage[7].pm;
+                f_o_pa <= g_stage[7].pa;
+                f_o_p_r <= g_stage[7].p;
+                f_pc7 <= f_int_c_run;
+                f_pw7 <= f_int_rom_d;
+                f_q7 <= f_int_c_run * f_int_rom_d;
+                f_o_pc <= f_pc7;
+                f_o_pw <= f_pw7;
+                f_o_q_r <= f_q7;
+                f_ra6 <= f_ra5;
+                f_ra7 <= f_ra6;
+                f_ra8 <= f_ra7;
+                if (!busy && n_we) f_a_addr_rd <= f_int_a_addr;
+                if (!busy && start) f_a_addr_run <= f_a_addr_rd;
             end
-            always @(*) begin
-                if (f_past_valid && check_on(P_ROM_ADDR) && f_v_want[5] && !g_stage[5].nerr
-                    && !g_stage[5].past_half_pi)
-                    rom_address_of_the_formula: assert(
-                        f_ra5 == g_stage[5].cos_index[TSEL_BITS+ROM_ADDR_BITS-1:0]);
-            end
+            assign f_o_p = f_o_p_r;
+            assign f_o_q = f_o_q_r;
+            // the operands of both products are the formula's (|zeta| saturated and a; C and
+            // the gated word), the ROM words were read at the formula's addresses
+            assign f_taken_ok = f_o_pm == f_want_mag && f_o_pa == f_want_a
+                && f_o_pc == f_job_c && f_o_pw == f_want_word
+                && (f_want_nerr || f_want_past_half_pi
+                    || f_ra8 == f_want_cos_index[TSEL_BITS+ROM_ADDR_BITS-1:0])
+                && (f_want_nerr || f_a_addr_run == f_want_a_index[A_ADDR_BITS-1:0]);
         end else begin : g_want_image
             assign f_want_cos_word = f_cos_image[f_want_cos_index];
             assign f_want_a_word = f_a_image[f_want_a_index];
+            // (DATA = 2, where no helper is asserted: a multiplier of other registers)
+            always @(*) begin
+                if (f_past_valid && check_on(P_HELPERS) && f_left != 0 && !g_stage[0].nerr
+                    && f_v_want[7])
+                    h_out_prod_word: assert(f_int_out_prod == f_job_c * g_stage[7].word);
+            end
         end
         // (hierarchical names: a label inside the loop would repeat per iteration)
         always @(*) begin
@@ -680,12 +767,9 @@ generate
                 if (f_v_want[5])
                     h_rom_q_reg: assert((f_int_zero ? 0 : f_int_rom_q) == g_stage[5].word);
                 if (f_v_want[6]) h_rom_d_word: assert(f_int_rom_d == g_stage[6].word);
-                if (f_v_want[7])
-                    h_out_prod_word: assert(f_int_out_prod == f_job_c * g_stage[7].word);
             end
         end
     end
 endgenerate
-`endif
 
 endmodule

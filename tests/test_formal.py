@@ -137,15 +137,18 @@ def check_property_file(props, module, unit: str, labels: list[str]) -> list:
 
 def test_specular_property_file_mutants_and_doc_agree() -> None:
     m = formal_specular
-    labels = [*m.PROPERTIES, m.REFERENCE, m.ROM_ADDRESS, *m.COVERS, *m.DATA_COVERS]
+    labels = [*m.PROPERTIES, m.REFERENCE, *m.COVERS, *m.DATA_COVERS]
     full = check_property_file(SPECULAR_PROPS, m, "specular_unit", labels)
-    assert {j.kind for j in full} == {"prove", "cover", "mutant", "equiv"}
-    assert len([j for j in full if j.kind == "mutant"]) == len(m.MUTANTS)
+    assert {j.kind for j in full} == {"prove", "cover", "mutant", "equiv", "bmc"}
+    # every mutant, and the data-path one again at the default (the bounded check's)
+    mutants = [j for j in full if j.kind == "mutant"]
+    assert len(mutants) == len(m.MUTANTS) + 1
+    assert any(j.config == "default" and j.mutant == m.DEFAULT_DATA_MUTANT for j in mutants)
     # the data path: proven at small (with the reference's own property), bounded at default
     small = next(j for j in full if j.kind == "prove" and j.config == "small")
     assert set(small.properties) == {*m.PROPERTIES, m.REFERENCE}
-    bmc = m.jobs(formal.FormalJob, default_bmc=True)  # not in make formal (docs/formal.md)
-    assert any(j.kind == "bmc" and j.config == "default" for j in bmc)
+    bmc = next(j for j in full if j.kind == "bmc")
+    assert bmc.config == "default" and "intensity_formula" in bmc.properties
     # the reference is its own file, not the RTL's pipeline: no register, no stage name
     ref = m.REFERENCE_FILE.read_text()
     assert ref.splitlines()[0] == "// SPDX-License-Identifier: Apache-2.0"

@@ -4,9 +4,11 @@ parameters, property numbers, covers, induction helper connections and deliberat
 
 ``model.hw.formal`` runs them like the divider's and the Gouraud unit's; this module holds the
 unit's data only.  The property file is ``formal/specular_unit_props.v``: port-level timing
-(busy, valid), the n error flag and reset; with DATA = 1 (``data_job``: every job at ``small``
-and the bounded check at ``default``) also every intensity against the reference formula of
-``formal/specular_unit_datapath.v`` (``sources``), the ROMs kept as their images (``memory``).
+(busy, valid), the n error flag and reset; with DATA (``data_job``: 1 in every job at ``small``,
+2 in the bounded check at ``default`` and its mutant) also every intensity against the reference
+formula of ``formal/specular_unit_datapath.v`` (``sources``), the ROMs as their images or, at
+the default, the unit's reads and products with their addresses and operands asserted
+(``memory``).
 Without DATA the data output is not observed but in the proof of ``intensity_zero_on_n_err``
 (ARITH), and both ROMs are removed with their read data left free (``MEMORY``): the ROM
 contents take no part.  Layer 2: imports ``model.units`` and ``model.hw.formal_gouraud``
@@ -65,9 +67,6 @@ PROTOCOL = tuple(p for p in PROPERTIES if p not in DATA_PROPERTIES)
 # A property of the reference alone (no mutant of the RTL can break it): the saturation of
 # |zeta| never changes a word (contract row 35); CHECK 7, with DATA = 1
 REFERENCE = "clamp_never_changes_a_result"
-# With DATA = 2 (the bounded check at default) ROM 12's words come from the unit's reads, and
-# this property asserts that every word was read at the address the formula gives; CHECK 8
-ROM_ADDRESS = "rom_address_of_the_formula"
 COVERS = (
     "c_idle",
     "c_busy",
@@ -123,11 +122,17 @@ INTERNALS = {
     "f_int_addr": "addr_reg",
     "f_int_rom_q": "rom_q_reg",
     "f_int_rom_addr": "rom_addr",
+    "f_int_a_addr": "a_addr",
 }
 DEFINE = "-DSPECULAR_INTERNALS"
 # The ROM words take no part: both ROMs are removed, their read data left free in every cycle
 # (sby makes an undriven wire a free input); without ARITH the data path goes with them.
 MEMORY = "memory_collect; delete t:$mem_v2; opt_clean"
+# DATA = 2 (the bounded check at the default): ROM 12 removed, its read data free in every cycle
+# (the reference takes the word the unit read, its address asserted: it holds for any word);
+# ROM 9 kept (its read register holds the word from the n write to the start); the property
+# file's products merged with the unit's (opt_merge: the same $mul cell of the same registers)
+MEMORY_DATA2 = "memory_collect; delete t:$mem_v2 n:*cos_rom %i; opt_clean; opt_merge; opt_clean"
 
 MUTANTS = {
     m.name: m
@@ -207,17 +212,21 @@ MUTANTS = {
     )
 }
 DEFAULT_BMC_DEPTH = 14  # reset, writes, start, 8 fill cycles, a line of 3 pixels
+# The data-path mutant the bounded check at the default must catch (also run at small)
+DEFAULT_DATA_MUTANT = "abs_ones_complement"
 
 
 def data_job(config: str, kind: str) -> int:
     """DATA of a job: 0 the data path is not observed; 1 every intensity against the reference,
     which reads its own copy of both ROM images (``small``: ROM 12 has 32 words); 2 the same
-    with ROM 12's words taken from the unit's reads and their addresses asserted equal to the
-    formula's (the bounded check at ``default``: two copies of a 16384-word ROM would make
-    the solver compare tables, not the pipeline)."""
+    with the ROM words taken from the unit's reads and the two products computed from the
+    unit's operand registers, their addresses and operands asserted equal to the formula's (the
+    bounded check at ``default`` and the mutants there: two copies of a 16384-word ROM, or two
+    different 27 x 17-bit multipliers, would make the solver compare tables and multipliers,
+    not the pipeline; the property file leaves the reference out of a protocol mutant)."""
     if config == "small":
         return 1
-    return 2 if kind == "bmc" else 0
+    return 2 if kind in ("bmc", "mutant") else 0
 
 
 def rom_files(config: str) -> list[Path]:
@@ -243,10 +252,17 @@ def sources(job: FormalJob) -> list[Path]:
 def memory(job: FormalJob) -> str:
     """The job's ROM handling: with DATA = 1 the ROMs become their images as constant logic
     (the unit's and the reference's copies; a memory would be free state in the induction
-    step); with DATA = 2 (bounded, from reset) they stay memories initialised from the images;
+    step); with DATA = 2 (bounded, from reset) ROM 12 is removed and ROM 9 stays a memory
+    initialised from its image, the products merged (``MEMORY_DATA2``; a mutant job gets the
+    helper connections here, as ``model.hw.formal`` makes them for prove and bmc jobs only);
     without DATA both are removed (``MEMORY``)."""
     data = data_job(job.config, job.kind)
-    return {0: MEMORY, 1: "memory_map -rom-only; opt_clean", 2: "opt_clean"}[data]
+    if data == 2 and job.kind == "mutant" and "intensity_formula" not in job.properties:
+        data = 0  # a protocol mutant at the default: the data path is not observed
+    if data == 2 and job.kind == "mutant":  # the same connections as the bounded check's
+        connect = [f"connect -nounset -set {w} \\dut.{r}" for w, r in INTERNALS.items()]
+        return "; ".join([*connect, MEMORY_DATA2])
+    return {0: MEMORY, 1: "memory_map -rom-only; opt_clean", 2: MEMORY_DATA2}[data]
 
 
 def params(config: str, kind: str = "prove") -> dict[str, object]:
@@ -260,14 +276,15 @@ def params(config: str, kind: str = "prove") -> dict[str, object]:
     if kind != "equiv":  # clamp_never_changes_a_result at small only (a hard product at default)
         out["DATA"] = data_job(config, kind)
         out["CLAMP"] = int(config == "small")
+        out["HELPERS"] = int(kind != "bmc")  # a bounded check needs no induction helpers
     return out
 
 
-def jobs(make, quick: bool = False, default_bmc: bool = False) -> list:
+def jobs(make, quick: bool = False) -> list:
     """The unit's jobs, made by ``make(name, unit, kind, config, **fields)`` (FormalJob);
     ``quick``: the protocol proof, the covers and one mutant at the default, the data-path
-    proof at ``small``; ``default_bmc``: also the bounded check of the data path at the default
-    (DATA = 2), which does not finish in reasonable time yet."""
+    proof at ``small``; else also the bounded check of the data path at the default (DATA = 2)
+    and its mutant."""
     out = []
 
     def add(name: str, kind: str, config: str, **kw) -> None:
@@ -282,8 +299,8 @@ def jobs(make, quick: bool = False, default_bmc: bool = False) -> list:
     add("prove_small", "prove", "small", arith=True, properties=data)
     if not quick:
         add("cover_small", "cover", "small", depth=18, properties=(*COVERS, *DATA_COVERS))
-    if default_bmc:  # not in make formal: z3 did not get past step 6 in 5 min (docs/formal.md)
-        kw = {"arith": True, "properties": (*PROPERTIES, ROM_ADDRESS)}
+    if not quick:  # the intensities at the default: bounded (DATA = 2, docs/formal.md)
+        kw = {"arith": True, "properties": PROPERTIES}
         add("bmc_default", "bmc", "default", depth=DEFAULT_BMC_DEPTH, **kw)
     if not quick:  # the netlist: ROM 12 as logic is 32 words at small (16384 at default)
         add("equiv_small", "equiv", "small", depth=0, properties=("netlist_equals_rtl",))
@@ -293,4 +310,8 @@ def jobs(make, quick: bool = False, default_bmc: bool = False) -> list:
         config = "small" if prop in DATA_PROPERTIES else "default"
         kw = {"arith": arith, "properties": (prop,), "mutant": m}
         add(f"mutant_{m}", "mutant", config, depth=16 if config == "small" else 24, **kw)
+    if not quick:  # the same bounded check (DATA = 2) catches a data-path mutant at the default
+        m = MUTANTS[DEFAULT_DATA_MUTANT]
+        kw = {"arith": True, "properties": (m.breaks,), "mutant": m.name}
+        add(f"mutant_{m.name}_default", "mutant", "default", depth=12, **kw)
     return out
