@@ -4,6 +4,10 @@
  * (read_verilog -formal; model/hw/formal_specular.py holds the jobs, docs/formal.md lists every
  * property beside the contract sentences of docs/specular.md it proves).
  *
+ * Size: about 780 lines, one file on purpose: the protocol model, the per-stage data helpers
+ * (one per pipeline register of the nine-stage unit) and the DATA = 1 / 2 forms of the
+ * intensity check all read the same shadow registers; split, each part would re-declare them.
+ *
  * specular_unit_formal wraps one specular_unit (instance "dut", the job's configuration:
  * model.hw.formal_specular CONFIGS) with every input free and holds a reference model of the
  * protocol in shadow registers, driven by the ports only:
