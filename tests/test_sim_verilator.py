@@ -11,7 +11,7 @@ import pytest
 from model.units import divider, specular
 from model.units.gouraud import GouraudConfig
 from sim import runner
-from sim.runner import SIM_BUILD, hdl_parameters, run_bench
+from sim.runner import SIM_BUILD, run_bench, unit_parameters
 from tests import mutants
 from tests.conftest import record_sim
 
@@ -19,11 +19,10 @@ pytestmark = pytest.mark.sim
 
 GOURAUD = GouraudConfig(p=8, i_frac=12)
 UNITS = {
-    "divider_shift": ("sim.tb_divider", divider.DEFAULT, lambda c: hdl_parameters(
-        c, ROM_FILE=divider.rom_path(c))),
-    "gouraud_segment": ("sim.tb_gouraud", GOURAUD, hdl_parameters),
-    "specular_unit": ("sim.tb_specular", specular.DEFAULT, lambda c: c.hdl_parameters()),
-}  # fmt: skip
+    "divider_shift": ("sim.tb_divider", divider.DEFAULT),
+    "gouraud_segment": ("sim.tb_gouraud", GOURAUD),
+    "specular_unit": ("sim.tb_specular", specular.DEFAULT),
+}
 
 
 @pytest.fixture
@@ -34,8 +33,8 @@ def verilator(monkeypatch) -> None:
 
 @pytest.mark.parametrize("unit", UNITS)
 def test_bench_passes_under_verilator(request, verilator, unit: str) -> None:
-    bench, cfg, params = UNITS[unit]
-    records = run_bench(unit, bench, f"{unit}_default", params(cfg), cfg)
+    bench, cfg = UNITS[unit]
+    records = run_bench(unit, bench, f"{unit}_default", unit_parameters(cfg), cfg)
     record_sim(request, records)
     assert records and all(r["errors"] == 0 for r in records), records
     assert sum(r["compared"] for r in records) > 0
@@ -48,7 +47,7 @@ def test_div_zero_leak_fails_under_verilator(request, verilator) -> None:
         "divider_shift",
         "sim.tb_divider",
         "divider_mutant_div_zero",
-        hdl_parameters(cfg, ROM_FILE=divider.rom_path(cfg)),
+        unit_parameters(cfg),
         cfg,
         testcase=["test_random_strobes", "test_write_in_start_cycle"],
         rtl=mutants.build("divider_shift_div_zero_leak", SIM_BUILD / "mutants-verilator"),
