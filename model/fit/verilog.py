@@ -23,7 +23,7 @@ from pathlib import Path
 from model.hw import params as hw_params
 from model.hw import wrapper
 from model.render import pipeline
-from model.units import divider, gouraud, specular
+from model.units import divider, gouraud, rom, specular
 
 TOP = "shading_fit_top"
 PREFIX = {"divider": "div_", "gouraud": "gou_", "specular": "spec_"}
@@ -34,7 +34,7 @@ LENGTH_PORT = {
     "gouraud": ("len_in", "len_we", gouraud.DEFAULT.len_width),
     "specular": ("len_in", "len_we", specular.DEFAULT.len_width),
 }
-RTL_DIR = Path(__file__).resolve().parents[2] / "rtl"
+RTL_DIR = rom.ROM_DIR.parent  # rtl/, installed as model.rtl
 
 
 def unit_params(cfg: pipeline.PipelineConfig, unit: str) -> dict[str, object]:

@@ -51,7 +51,8 @@ from model.hw.tools import find_tool
 from model.units import divider, rom
 
 RTL_DIR = rom.ROM_DIR.parent
-FORMAL_DIR = Path(__file__).resolve().parents[2] / "formal"  # the checkout's formal/
+# formal/ beside rtl/: the checkout's formal/, or model/formal of an installed copy (pyproject.toml)
+FORMAL_DIR = RTL_DIR.parent / "formal"
 TIMEOUT_S = 1800
 STATUSES = ("proven", "bounded", "failed", "reached", "unreached", "error")
 

@@ -22,7 +22,7 @@ from pathlib import Path
 from typing import Protocol
 
 from model.hw.formal_gouraud import Mutant
-from model.units import specular
+from model.units import rom, specular
 
 
 class FormalJob(Protocol):
@@ -33,7 +33,7 @@ class FormalJob(Protocol):
 
 
 UNIT = "specular_unit"
-FORMAL_DIR = Path(__file__).resolve().parents[2] / "formal"  # the checkout's formal/
+FORMAL_DIR = rom.ROM_DIR.parent.parent / "formal"  # beside rtl/, as model.hw.formal.FORMAL_DIR
 REFERENCE_FILE = FORMAL_DIR / "specular_unit_datapath.v"  # specular_unit_ref: the formula
 # default: SpecularConfig's default (the RTL's default parameters, LEN_WIDTH 11, FILL_LATENCY 8);
 # small: every width reduced and n = 1..8 kept (all four tables, ROM 12 of 4 x 8 words), where
