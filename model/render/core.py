@@ -1,0 +1,360 @@
+# SPDX-License-Identifier: Apache-2.0
+"""The streaming shading core (``rtl/shading_core.v``, docs/core.md): its stream formats, the
+packer and unpacker the host and the benches share, and the model of what it outputs and when.
+
+**In**: one AXI4-Stream beat per span (``SpanFormat``), every operand the span's ``UnitJobs``
+rows hold: position and intervals, the Gouraud start and end register of each channel, the
+specular registers C, dz, z0, n (with a flag: the span goes through the specular unit), and
+the diffuse jobs' registers (with a flag: the diffuse term comes from the unit at n = 1).  The
+three diffuse jobs of a span share dz and z0: ``specular.setup_row`` computes them from N and
+L alone, only C carries the channel's colour; the packer checks that they agree and carries
+them once.
+
+**Out**: one beat per pixel (``PixelFormat``): x, y and RGB888, ``tlast`` on a span's last
+pixel and ``tuser`` = 1 on the pixels of a span whose n the specular unit refuses (its
+highlight is then 0, as the unit's ``n_err`` says).
+
+Per pixel the core does what ``pipeline.assemble`` does with the units' outputs: dI from the
+divider's quotient (``a * round(2**N / k)``, rounded to the Gouraud ``di`` format), the
+Gouraud lane value ``i0 + bias + x dI`` truncated and saturated, the specular unit's
+``C cos^k(a |z0 + x dz|)`` for the highlight and for each channel's diffuse term, then
+``min(gouraud + diffuse + specular, 255)``.  ``core_pixels`` computes that from the packed
+words through the units' public per-line calls (an implementation apart from the pipeline's
+kernels: the tests compare it with the pipeline's image byte for byte).
+
+**Timing** (``CoreTiming``): with every span beat offered back to back and the output always
+ready, the core takes one span beat per clock while it has room and gives one pixel per clock;
+the first pixel leaves ``LATENCY`` clocks after the first span beat is taken, and the last
+``LATENCY + pixels - 1`` clocks after it.  ``core_cycles`` gives that count; the benches
+measure it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from model.render.pipeline import DIFFUSE_N, PipelineConfig, UnitJobs, increment_from_quotient
+from model.units import divider, gouraud, specular
+
+CHANNELS = 3
+N_WIDTH = 10
+X_WIDTH = 12
+Y_WIDTH = 12
+OUT_MAX = 255
+"""RGB888: each channel saturates at 255 (``pipeline.assemble``'s ``out_max``)."""
+
+SPAN_PIPE = 3
+"""Clocks from the cycle a span beat is taken to the cycle its first pixel is issued: stage A
+(the input register, ROM 9, the reciprocal ROM, decoder 10), stage B (the divider's products),
+the span register."""
+PIXEL_PIPE = 10
+"""Clocks from a pixel issued (in S0, the span register's accumulators) to its beat on
+``m_axis``: the specular stages S1..S8, the sum into the output FIFO, its output register."""
+LATENCY = SPAN_PIPE + PIXEL_PIPE
+"""Clocks from the cycle the first span beat is taken to the cycle of the first pixel beat."""
+
+
+def _round8(bits: int) -> int:
+    return -(-bits // 8) * 8
+
+
+@dataclass(frozen=True)
+class SpanFormat:
+    """The span beat's fields, low bits first (docs/core.md, "Span beat").  Widths follow the
+    pipeline configuration: ``len_width`` of the Gouraud unit for l, the Gouraud register width
+    for the intensities, the specular unit's C and z widths."""
+
+    cfg: PipelineConfig
+    x_width: int = X_WIDTH
+    y_width: int = Y_WIDTH
+
+    def __post_init__(self) -> None:
+        for name in ("x_width", "y_width"):
+            value = getattr(self, name)
+            if not 1 <= value <= 16:
+                raise ValueError(f"{name} = {value} is out of range: legal range is 1..16")
+
+    @property
+    def fields(self) -> tuple[tuple[str, int], ...]:
+        g, s = self.cfg.gouraud, self.cfg.specular
+        iw, cw, zw = g.i_width, s.c_width, s.z_width
+        return (
+            ("x", self.x_width),
+            ("y", self.y_width),
+            ("l", g.len_width),
+            ("spec", 1),
+            ("diff", 1),
+            *((f"i_start{c}", iw) for c in range(CHANNELS)),
+            *((f"i_end{c}", iw) for c in range(CHANNELS)),
+            ("c", cw),
+            ("dz", zw),
+            ("z0", zw),
+            ("n", N_WIDTH),
+            *((f"diff_c{c}", cw) for c in range(CHANNELS)),
+            ("diff_dz", zw),
+            ("diff_z0", zw),
+        )
+
+    @property
+    def bits(self) -> int:
+        """Bits the fields take (the rest of the beat, up to ``width``, is zero)."""
+        return sum(w for _, w in self.fields)
+
+    @property
+    def width(self) -> int:
+        """``s_axis_tdata`` width: the fields rounded up to whole bytes."""
+        return _round8(self.bits)
+
+    def layout(self) -> list[tuple[str, int, int]]:
+        """(name, low bit, width) of every field."""
+        out, at = [], 0
+        for name, w in self.fields:
+            out.append((name, at, w))
+            at += w
+        return out
+
+
+@dataclass(frozen=True)
+class PixelFormat:
+    """The pixel beat's fields, low bits first: x, y, R, G, B (docs/core.md, "Pixel beat")."""
+
+    x_width: int = X_WIDTH
+    y_width: int = Y_WIDTH
+
+    @property
+    def fields(self) -> tuple[tuple[str, int], ...]:
+        return (("x", self.x_width), ("y", self.y_width), ("r", 8), ("g", 8), ("b", 8))
+
+    @property
+    def bits(self) -> int:
+        return sum(w for _, w in self.fields)
+
+    @property
+    def width(self) -> int:
+        return _round8(self.bits)
+
+    def layout(self) -> list[tuple[str, int, int]]:
+        out, at = [], 0
+        for name, w in self.fields:
+            out.append((name, at, w))
+            at += w
+        return out
+
+
+SIGNED = ("dz", "z0", "diff_dz", "diff_z0")
+"""Span fields in two's complement (the rest are unsigned)."""
+
+
+def pack(layout: list[tuple[str, int, int]], values: dict[str, int]) -> int:
+    """One beat from its field values; a value that does not fit its field raises, naming it."""
+    word = 0
+    for name, lo, w in layout:
+        v = int(values.get(name, 0))
+        signed = name in SIGNED
+        vmin, vmax = (-(1 << (w - 1)), (1 << (w - 1)) - 1) if signed else (0, (1 << w) - 1)
+        if not vmin <= v <= vmax:
+            raise ValueError(
+                f"span field {name} = {v} is out of range: legal range is {vmin}..{vmax} "
+                f"({w} bits{', signed' if signed else ''})"
+            )
+        word |= (v & ((1 << w) - 1)) << lo
+    return word
+
+
+def unpack(layout: list[tuple[str, int, int]], word: int) -> dict[str, int]:
+    """The field values of one beat (``SIGNED`` fields sign-extended)."""
+    out = {}
+    for name, lo, w in layout:
+        v = (int(word) >> lo) & ((1 << w) - 1)
+        if name in SIGNED and v >> (w - 1):
+            v -= 1 << w
+        out[name] = v
+    return out
+
+
+def span_beats(jobs: UnitJobs, x_start: np.ndarray, y: np.ndarray, fmt: SpanFormat) -> list[int]:
+    """One span beat per span of one object's ``jobs``, in span order (``x_start``, ``y``: the
+    spans' first pixel).  The diffuse jobs of a span must share dz and z0."""
+    spans = jobs.intervals.size
+    if jobs.i_start.shape != (spans, CHANNELS):
+        raise ValueError(
+            f"i_start has shape {jobs.i_start.shape}: the core takes {CHANNELS} colour channels"
+        )
+    rows: list[dict[str, int]] = [
+        {
+            "x": int(x_start[s]),
+            "y": int(y[s]),
+            "l": int(jobs.intervals[s]),
+            **{f"i_start{c}": int(jobs.i_start[s, c]) for c in range(CHANNELS)},
+            **{f"i_end{c}": int(jobs.i_end[s, c]) for c in range(CHANNELS)},
+        }
+        for s in range(spans)
+    ]
+    for j, s in enumerate(jobs.spec_span):
+        rows[s].update(
+            spec=1,
+            c=int(jobs.spec_c[j]),
+            dz=int(jobs.spec_dz[j]),
+            z0=int(jobs.spec_z0[j]),
+            n=int(jobs.spec_n[j]),
+        )
+    for j, (s, c) in enumerate(zip(jobs.diff_span, jobs.diff_channel, strict=True)):
+        row = rows[s]
+        dz, z0 = int(jobs.diff_dz[j]), int(jobs.diff_z0[j])
+        if row.get("diff") and (row["diff_dz"], row["diff_z0"]) != (dz, z0):
+            raise ValueError(
+                f"span {s}: the diffuse jobs' dz, z0 differ between channels "
+                f"({row['diff_dz']}, {row['diff_z0']} against {dz}, {z0} in channel {c}): "
+                "the core takes one angle per span for the three channels"
+            )
+        row.update(diff=1, diff_dz=dz, diff_z0=z0)
+        row[f"diff_c{c}"] = int(jobs.diff_c[j])
+    layout = fmt.layout()
+    return [pack(layout, row) for row in rows]
+
+
+def _diffuse_check(cfg: PipelineConfig) -> None:
+    if cfg.specular.n_first > DIFFUSE_N:
+        raise ValueError(
+            f"specular n_first = {cfg.specular.n_first} is out of range for diffuse spans: "
+            f"the diffuse jobs need n = {DIFFUSE_N} (n_first = 1)"
+        )
+
+
+def core_pixels(words: list[int], fmt: SpanFormat) -> list[dict[str, int]]:
+    """What leaves the core's output port for the span beats ``words``, in order: per pixel
+    x, y, r, g, b, ``last`` (tlast) and ``n_err`` (tuser), from the units' public calls."""
+    cfg = fmt.cfg
+    d, g, sp = cfg.divider, cfg.gouraud, cfg.specular
+    layout = fmt.layout()
+    out: list[dict[str, int]] = []
+    for word in words:
+        f = unpack(layout, word)
+        l_int = f["l"]
+        n_px = l_int + 1
+        total = np.zeros((n_px, CHANNELS), dtype=np.int64)
+        for c in range(CHANNELS):
+            di = 0
+            if l_int > 0:
+                q = divider.divide(f[f"i_end{c}"] - f[f"i_start{c}"], l_int, d)
+                di = int(increment_from_quotient(np.array([q]), cfg)[0])
+            total[:, c] = gouraud.shade_line(f[f"i_start{c}"], di, n_px, g)
+        n_err = 0
+        if f["spec"]:
+            line, n_err = specular.unit_line(f["c"], f["dz"], f["z0"], f["n"], l_int, sp)
+            total += np.asarray(line, dtype=np.int64)[:, None]
+        if f["diff"]:
+            _diffuse_check(cfg)
+            for c in range(CHANNELS):
+                total[:, c] += specular.shade_line(
+                    f[f"diff_c{c}"], f["diff_dz"], f["diff_z0"], DIFFUSE_N, l_int, sp
+                )
+        rgb = np.minimum(total, OUT_MAX)
+        for x in range(n_px):
+            out.append(
+                {
+                    "x": f["x"] + x,
+                    "y": f["y"],
+                    "r": int(rgb[x, 0]),
+                    "g": int(rgb[x, 1]),
+                    "b": int(rgb[x, 2]),
+                    "last": int(x == l_int),
+                    "n_err": int(n_err),
+                }
+            )
+    return out
+
+
+def pixel_word(pix: dict[str, int], fmt: PixelFormat) -> int:
+    """The pixel beat's ``tdata`` of one output pixel."""
+    return pack(fmt.layout(), pix)
+
+
+def core_cycles(pixels: int) -> int:
+    """Clocks from the cycle the first span beat is taken to the cycle of the last pixel beat,
+    both counted, with the span beats offered back to back and the output always ready:
+    LATENCY + pixels (the core issues one pixel per clock; a span beat waits in stage B while
+    the previous span's pixels issue, and moves into the span register with its last one)."""
+    if pixels < 1:
+        raise ValueError(f"pixels = {pixels} is out of range: legal is >= 1")
+    return LATENCY + pixels
+
+
+def core_parameters(
+    cfg: PipelineConfig,
+    fmt: SpanFormat | None = None,
+    specular_path: bool | None = None,
+    diffuse_path: bool | None = None,
+    fifo_depth: int = 32,
+) -> dict[str, object]:
+    """The Verilog parameters of ``rtl/shading_core.v`` for ``cfg``: the units' fields in upper
+    case (the specular unit's ``LEN_WIDTH`` as ``SPEC_LEN_WIDTH``), the ROM images' paths, and
+    which paths are built (default: what ``cfg``'s modes use)."""
+    fmt = fmt or SpanFormat(cfg)
+    d, g, s = cfg.divider, cfg.gouraud, cfg.specular
+    spec = dict(s.hdl_parameters())
+    spec["SPEC_LEN_WIDTH"] = spec.pop("LEN_WIDTH")
+    if specular_path is None:
+        specular_path = cfg.specular_mode != "vertex"
+    if diffuse_path is None:
+        diffuse_path = cfg.diffuse_mode != "gouraud"
+    if diffuse_path:
+        _diffuse_check(cfg)
+    return {
+        "X_WIDTH": fmt.x_width,
+        "Y_WIDTH": fmt.y_width,
+        "SPECULAR": int(bool(specular_path)),
+        "DIFFUSE": int(bool(diffuse_path)),
+        "FIFO_DEPTH": fifo_depth,
+        "A_WIDTH": d.a_width,
+        "K_WIDTH": d.k_width,
+        "RECIP_BITS": d.recip_bits,
+        "RECIP_ROM_FILE": str(divider.rom_path(d)),
+        "I_INT": g.i_int,
+        "I_FRAC": g.i_frac,
+        "LEN_WIDTH": g.len_width,
+        **spec,
+    }
+
+
+@dataclass
+class FrameStream:
+    """A frame's span beats, objects in shading order, and where each object's pixels are."""
+
+    words: list[int]
+    objects: list[int]  # object index of each object's run of beats, in order
+    spans: list[int]  # span beats per object, in order
+    pixels: list[int]  # pixels per object, in order
+
+    @property
+    def total_pixels(self) -> int:
+        return sum(self.pixels)
+
+
+def frame_stream(frame_raster, cfg: PipelineConfig, fmt: SpanFormat | None = None) -> FrameStream:
+    """The span beats a host sends the core for ``frame_raster`` (a ``raster.Raster``): every
+    object's spans in the order ``shade.shade`` visits them, through ``pipeline.build_jobs``
+    (the same jobs the units' model receives)."""
+    from model.render import pipeline, shade  # shade imports the pipeline's kernels
+
+    fmt = fmt or SpanFormat(cfg)
+    out = FrameStream([], [], [], [])
+
+    def record(spans, ctx):
+        jobs = pipeline.build_jobs(spans, ctx, cfg)
+        last = spans.x_end.max() if len(spans) else 0
+        if last >> fmt.x_width or (spans.y.max() if len(spans) else 0) >> fmt.y_width:
+            raise ValueError(
+                f"object {ctx.obj}: a pixel at x = {int(last)} or y = {int(spans.y.max())} is "
+                f"out of range: the core's beats hold x < 2**{fmt.x_width}, y < 2**{fmt.y_width}"
+            )
+        out.words.extend(span_beats(jobs, spans.x_start, spans.y, fmt))
+        out.objects.append(ctx.obj)
+        out.spans.append(len(spans))
+        out.pixels.append(spans.n_pixels)
+        return np.zeros((spans.n_pixels, CHANNELS), dtype=np.uint8)
+
+    shade.shade(frame_raster, record)
+    return out

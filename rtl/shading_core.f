@@ -1,0 +1,10 @@
+// SPDX-License-Identifier: Apache-2.0
+// rtl/shading_core.f: the sources of shading_core for tools that read a file list (docs/core.md).
+// Verilator: -F rtl/shading_core.f (paths relative to this file); Icarus: iverilog -c shading_core.f in rtl/.
+// ROM images: $readmemh of `SHADING_ROM_DIR/<file>.hex, default "rom" (relative to the
+// tool's working folder); see rtl/specular_unit.f for another folder.
+shading_rom.v
+shading_increment.v
+shading_specular_pipe.v
+shading_axis_fifo.v
+shading_core.v

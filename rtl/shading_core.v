@@ -1,0 +1,715 @@
+// SPDX-License-Identifier: Apache-2.0
+/*
+ * The shading core: spans in, RGB pixels out, one pixel per clock (docs/core.md).
+ *
+ * s_axis: one beat per span (model.render.core.SpanFormat, low bits first): x, y, l (the span
+ * has l + 1 pixels), spec (the highlight through the specular unit), diff (the diffuse term
+ * through the specular unit at n = 1), i_start0..2 and i_end0..2 (Gouraud registers, unsigned
+ * Q(I_INT).(I_FRAC)), c, dz, z0, n (the specular registers), diff_c0..2, diff_dz, diff_z0 (the
+ * diffuse jobs: one C per channel, one angle per span).
+ * m_axis: one beat per pixel (model.render.core.PixelFormat): x, y, R, G, B; tlast on the
+ * span's last pixel; tuser = 1 on every pixel of a span whose highlight the core cannot make
+ * (n outside N_FIRST..N_LAST or 1..1000: the highlight is 0, as the unit's n_err says; or a
+ * flag set for a path this core was built without: that term is 0).
+ *
+ * Per pixel and channel what model.render.pipeline.assemble does: the divider's quotient for
+ * dI (rtl/shading_increment.v: a * round(2^N / l), rounded), the Gouraud lane i0 + bias + x dI
+ * truncated and saturated, the specular unit's C cos^k(a |z0 + x dz|) for the highlight and,
+ * sharing one angle, for each channel's diffuse term (rtl/shading_specular_pipe.v), then
+ * min(gouraud + diffuse + specular, 255).  Every pixel equals model.render.core.core_pixels.
+ *
+ * Structure: the input register and the ROM reads (stage A: ROM 9's a, the reciprocal of l,
+ * decoder 10), the three products (stage B), the span register (the issuer: Gouraud, angle
+ * and diffuse-angle accumulators, the pixel counter), the pixel pipeline (specular stages
+ * S1..S8 beside the delayed Gouraud values), the sum into the output FIFO.  A span beat is
+ * taken while stage B is empty or moves into the span register; the span register takes the
+ * next span in the clock that issues the last pixel of the current one, so spans follow each
+ * other with no gap.  The issuer issues a pixel only while the pixels in flight and in the
+ * FIFO leave room in it (a credit count), so output backpressure stalls the issuer and never
+ * drops, duplicates or reorders a pixel; the pixel pipeline itself never stalls.
+ *
+ * Reset: rst_n (synchronous, active low) empties the core: no beat after reset belongs to a
+ * span from before it.  It resets the control state (valid flags, counters, the FIFO); the
+ * data path is loaded before it is read.
+ *
+ * Parameters: the model's configuration fields in upper case (divider, Gouraud and specular
+ * unit; the specular unit's LEN_WIDTH as SPEC_LEN_WIDTH); SPECULAR and DIFFUSE build the
+ * highlight path and the diffuse path.  The Gouraud unit's P does not change a pixel (every
+ * lane holds i0 + bias + x dI exactly): the core makes one pixel per clock.
+ */
+
+`resetall
+`timescale 1ns / 1ps
+`default_nettype none
+
+`ifndef SHADING_ROM_DIR
+`define SHADING_ROM_DIR "rom"
+`endif
+
+module shading_core #(
+    // Pixel column bits (the span beat's and the pixel beat's x)
+    parameter X_WIDTH = 12,
+    // Pixel row bits
+    parameter Y_WIDTH = 12,
+    // 1: the highlight path (the specular unit) is built
+    parameter SPECULAR = 1,
+    // 1: the diffuse path (the specular unit at n = 1, three channels) is built
+    parameter DIFFUSE = 1,
+    // Output FIFO words (a power of two, 16 or more: the pixels in flight fit)
+    parameter FIFO_DEPTH = 32,
+    // Divider: dividend bits (at least I_INT + I_FRAC + 1)
+    parameter A_WIDTH = 21,
+    // Divider: divisor bits (k = l up to 2^K_WIDTH - 1)
+    parameter K_WIDTH = 11,
+    // Divider: reciprocal fraction bits N
+    parameter RECIP_BITS = 20,
+    // Divider: the reciprocal ROM image
+    parameter RECIP_ROM_FILE = {`SHADING_ROM_DIR, "/divider_recip_k11_n20.hex"},
+    // Gouraud: intensity integer bits
+    parameter I_INT = 8,
+    // Gouraud: intensity fraction bits
+    parameter I_FRAC = 12,
+    // Gouraud: line length bits (spans of 1 .. 2^LEN_WIDTH - 1 pixels)
+    parameter LEN_WIDTH = 11,
+    // Specular: C integer bits
+    parameter C_INT_BITS = 8,
+    // Specular: C fraction bits
+    parameter C_FRAC_BITS = 8,
+    // Specular: dz, z0 integer bits including the sign
+    parameter Z_INT_BITS = 3,
+    // Specular: dz, z0 fraction bits
+    parameter Z_FRAC_BITS = 26,
+    // Specular: interval counter bits of the unit (l up to 2^SPEC_LEN_WIDTH - 1)
+    parameter SPEC_LEN_WIDTH = 11,
+    // Specular: ROM 9 word integer bits
+    parameter A_INT_BITS = 3,
+    // Specular: ROM 9 word fraction bits
+    parameter A_FRAC_BITS = 14,
+    // Specular: ROM 12 address bits per table
+    parameter ROM_ADDR_BITS = 12,
+    // Specular: ROM 12 word bits
+    parameter ROM_DATA_BITS = 16,
+    // Specular: intensity bits
+    parameter OUT_WIDTH = 8,
+    // Specular: cos^k tables, 1..4
+    parameter NUM_TABLES = 4,
+    // Specular: largest n of each k range (1000 if unused)
+    parameter N_HI0 = 1,
+    parameter N_HI1 = 2,
+    parameter N_HI2 = 6,
+    parameter N_HI3 = 1000,
+    // Specular: k of each table (0 if unused)
+    parameter K0 = 1,
+    parameter K1 = 2,
+    parameter K2 = 4,
+    parameter K3 = 16,
+    // Specular: how ROM 9's a was chosen, "taylor" or "inflection"
+    parameter [8*10-1:0] ALPHA = "taylor",
+    // Specular: |zeta| integer bits (the model's mag_int_bits)
+    parameter MAG_INT_BITS = 1,
+    // Specular: the kept range of n
+    parameter N_FIRST = 1,
+    parameter N_LAST = 1000,
+    // Specular: ROM 9 and ROM 12 images
+    parameter A_ROM_FILE = {`SHADING_ROM_DIR,
+                            "/specular_a_taylor_n1k1_n2k2_n3-6k4_n7-1000k16_q3.14.hex"},
+    parameter COS_ROM_FILE = {`SHADING_ROM_DIR, "/specular_cos_k1-2-4-16_a12_d16.hex"},
+    // s_axis_tdata bits (derived: the span beat's fields rounded up to whole bytes; another
+    // value is refused)
+    parameter SPAN_WIDTH = (X_WIDTH + Y_WIDTH + LEN_WIDTH + 2 + 6 * (I_INT + I_FRAC)
+                            + 4 * (C_INT_BITS + C_FRAC_BITS) + 4 * (Z_INT_BITS + Z_FRAC_BITS)
+                            + 10 + 7) / 8 * 8,
+    // m_axis_tdata bits (derived: x, y and RGB888 rounded up to whole bytes)
+    parameter PIX_WIDTH = (X_WIDTH + Y_WIDTH + 24 + 7) / 8 * 8
+) (
+    input  wire                  clk,
+    input  wire                  rst_n,
+
+    input  wire [SPAN_WIDTH-1:0] s_axis_tdata,
+    input  wire                  s_axis_tvalid,
+    output wire                  s_axis_tready,
+
+    output wire [PIX_WIDTH-1:0]  m_axis_tdata,
+    output wire                  m_axis_tlast,
+    output wire                  m_axis_tuser,
+    output wire                  m_axis_tvalid,
+    input  wire                  m_axis_tready
+);
+
+// ---------------------------------------------------------------- widths and the beats
+localparam CH = 3;
+localparam N_WIDTH = 10;
+localparam I_WIDTH = I_INT + I_FRAC;
+localparam DI_WIDTH = I_WIDTH + 1;
+localparam C_WIDTH = C_INT_BITS + C_FRAC_BITS;
+localparam Z_WIDTH = Z_INT_BITS + Z_FRAC_BITS;
+localparam ACC_WIDTH = Z_WIDTH + LEN_WIDTH;
+localparam G_WIDTH = I_WIDTH + LEN_WIDTH + 2;
+localparam AW = A_INT_BITS + A_FRAC_BITS;
+localparam TSEL_BITS = (NUM_TABLES > 2) ? 2 : 1;
+localparam G_MAX = (1 << I_INT) - 1;
+
+// The span beat, low bits first (model.render.core.SpanFormat)
+localparam O_X = 0;
+localparam O_Y = O_X + X_WIDTH;
+localparam O_L = O_Y + Y_WIDTH;
+localparam O_SPEC = O_L + LEN_WIDTH;
+localparam O_DIFF = O_SPEC + 1;
+localparam O_IS = O_DIFF + 1;
+localparam O_IE = O_IS + CH * I_WIDTH;
+localparam O_C = O_IE + CH * I_WIDTH;
+localparam O_DZ = O_C + C_WIDTH;
+localparam O_Z0 = O_DZ + Z_WIDTH;
+localparam O_N = O_Z0 + Z_WIDTH;
+localparam O_DC = O_N + N_WIDTH;
+localparam O_DDZ = O_DC + CH * C_WIDTH;
+localparam O_DZ0 = O_DDZ + Z_WIDTH;
+localparam SPAN_BITS = O_DZ0 + Z_WIDTH;
+localparam SPAN_WIDTH_DERIVED = (SPAN_BITS + 7) / 8 * 8;
+// The pixel beat: x, y, R, G, B
+localparam PIX_BITS = X_WIDTH + Y_WIDTH + 3 * 8;
+localparam PIX_WIDTH_DERIVED = (PIX_BITS + 7) / 8 * 8;
+
+// ---------------------------------------------------------------- parameter check
+// The rules the core adds to the units' (the pipeline configuration's cross-checks,
+// model.render.pipeline.PipelineConfig); each ROM checks its image against the parameters.
+localparam LEN_MAX = (1 << LEN_WIDTH) - 1;
+generate
+    if (X_WIDTH < 1 || X_WIDTH > 16) begin : g_check_x_width
+        shading_core_PARAMETER_ERROR_X_WIDTH_must_be_1_to_16 u_error ();
+    end
+    if (Y_WIDTH < 1 || Y_WIDTH > 16) begin : g_check_y_width
+        shading_core_PARAMETER_ERROR_Y_WIDTH_must_be_1_to_16 u_error ();
+    end
+    if (SPECULAR != 0 && SPECULAR != 1) begin : g_check_specular
+        shading_core_PARAMETER_ERROR_SPECULAR_must_be_0_or_1 u_error ();
+    end
+    if (DIFFUSE != 0 && DIFFUSE != 1) begin : g_check_diffuse
+        shading_core_PARAMETER_ERROR_DIFFUSE_must_be_0_or_1 u_error ();
+    end
+    if (FIFO_DEPTH < 16 || FIFO_DEPTH > 4096 || (FIFO_DEPTH & (FIFO_DEPTH - 1)) != 0)
+    begin : g_check_fifo_depth
+        shading_core_PARAMETER_ERROR_FIFO_DEPTH_must_be_a_power_of_2_from_16_to_4096 u_error ();
+    end
+    if (I_INT < 1 || I_INT > 16) begin : g_check_i_int
+        shading_core_PARAMETER_ERROR_I_INT_must_be_1_to_16 u_error ();
+    end
+    if (I_FRAC < 1 || I_FRAC > 24) begin : g_check_i_frac
+        shading_core_PARAMETER_ERROR_I_FRAC_must_be_1_to_24 u_error ();
+    end
+    if (LEN_WIDTH < 2 || LEN_WIDTH > 16) begin : g_check_len_width
+        shading_core_PARAMETER_ERROR_LEN_WIDTH_must_be_2_to_16 u_error ();
+    end
+    if (RECIP_BITS < 1 || RECIP_BITS > 40 || K_WIDTH < 1 || K_WIDTH > RECIP_BITS + 1)
+    begin : g_check_divider
+        shading_core_PARAMETER_ERROR_K_WIDTH_must_be_1_to_RECIP_BITS_plus_1 u_error ();
+    end
+    if (A_WIDTH < DI_WIDTH) begin : g_check_a_width
+        shading_core_PARAMETER_ERROR_A_WIDTH_must_hold_the_difference_of_two_intensities
+            u_error ();
+    end
+    if ((1 << K_WIDTH) - 1 < LEN_MAX - 1) begin : g_check_k_width
+        shading_core_PARAMETER_ERROR_K_WIDTH_must_reach_the_longest_span_s_intervals u_error ();
+    end
+    if ((1 << SPEC_LEN_WIDTH) - 1 < LEN_MAX - 1) begin : g_check_spec_len_width
+        shading_core_PARAMETER_ERROR_SPEC_LEN_WIDTH_must_reach_the_longest_span_s_intervals
+            u_error ();
+    end
+    if (DIFFUSE == 1 && N_FIRST != 1) begin : g_check_diffuse_n
+        shading_core_PARAMETER_ERROR_DIFFUSE_needs_N_FIRST_1 u_error ();
+    end
+    if (SPAN_WIDTH != SPAN_WIDTH_DERIVED) begin : g_check_span_width
+        shading_core_PARAMETER_ERROR_SPAN_WIDTH_must_be_the_span_beat_s_bits_rounded_to_bytes
+            u_error ();
+    end
+    if (PIX_WIDTH != PIX_WIDTH_DERIVED) begin : g_check_pix_width
+        shading_core_PARAMETER_ERROR_PIX_WIDTH_must_be_X_WIDTH_plus_Y_WIDTH_plus_24_rounded_to_bytes
+            u_error ();
+    end
+endgenerate
+
+// ---------------------------------------------------------------- stage A: input, ROM reads
+wire ce;              // stage A and B move
+wire take;            // the span register takes stage B
+reg  va_reg;
+reg  vb_reg;
+wire s_fire = s_axis_tvalid && s_axis_tready;
+assign s_axis_tready = rst_n && ce;
+
+wire [LEN_WIDTH-1:0] in_l = s_axis_tdata[O_L +: LEN_WIDTH];
+wire [N_WIDTH-1:0]   in_n = s_axis_tdata[O_N +: N_WIDTH];
+
+// Decoder 10 (as in rtl/specular_unit.v): the table of n and whether n is kept
+localparam [N_WIDTH-1:0] HI0 = N_HI0[N_WIDTH-1:0];
+localparam [N_WIDTH-1:0] HI1 = N_HI1[N_WIDTH-1:0];
+localparam [N_WIDTH-1:0] HI2 = N_HI2[N_WIDTH-1:0];
+localparam [N_WIDTH-1:0] HI3 = N_HI3[N_WIDTH-1:0];
+localparam [N_WIDTH-1:0] NFIRST = N_FIRST[N_WIDTH-1:0];
+localparam [N_WIDTH-1:0] NLAST = N_LAST[N_WIDTH-1:0];
+localparam A_DEPTH = N_LAST - N_FIRST + 1;
+localparam A_ADDR_BITS = (A_DEPTH > 512) ? 10 : (A_DEPTH > 256) ? 9 : (A_DEPTH > 128) ? 8
+                       : (A_DEPTH > 64) ? 7 : (A_DEPTH > 32) ? 6 : (A_DEPTH > 16) ? 5
+                       : (A_DEPTH > 8) ? 4 : (A_DEPTH > 4) ? 3 : (A_DEPTH > 2) ? 2 : 1;
+wire [3:0] dec_line;
+assign dec_line[0] = (in_n != {N_WIDTH{1'b0}}) && (in_n <= HI0);
+assign dec_line[1] = (NUM_TABLES > 1) && (in_n > HI0) && (in_n <= HI1);
+assign dec_line[2] = (NUM_TABLES > 2) && (in_n > HI1) && (in_n <= HI2);
+assign dec_line[3] = (NUM_TABLES > 3) && (in_n > HI2) && (in_n <= HI3);
+wire n_kept = (in_n >= NFIRST) && (in_n <= NLAST);
+wire dec_err = (dec_line == 4'b0000) || !n_kept;
+wire [N_WIDTH-1:0] n_off = in_n - NFIRST;
+wire [A_ADDR_BITS-1:0] a_addr = n_kept ? n_off[A_ADDR_BITS-1:0] : {A_ADDR_BITS{1'b0}};
+wire [1:0] dec_index = {dec_line[3] | dec_line[2], dec_line[3] | dec_line[1]};
+
+reg [X_WIDTH-1:0]      xa_reg;
+reg [Y_WIDTH-1:0]      ya_reg;
+reg [LEN_WIDTH-1:0]    la_reg;
+reg                    speca_reg;
+reg                    diffa_reg;
+reg [CH*I_WIDTH-1:0]   ia_reg;
+reg [CH*DI_WIDTH-1:0]  da_reg;     // i_end - i_start per channel
+reg [C_WIDTH-1:0]      ca_reg;
+reg [Z_WIDTH-1:0]      dza_reg;
+reg [Z_WIDTH-1:0]      z0a_reg;
+reg [TSEL_BITS-1:0]    tsela_reg;
+reg                    nerra_reg;
+reg [CH*C_WIDTH-1:0]   dca_reg;
+reg [Z_WIDTH-1:0]      ddza_reg;
+reg [Z_WIDTH-1:0]      dz0a_reg;
+
+integer c;
+always @(posedge clk) begin
+    if (ce) begin
+        xa_reg <= s_axis_tdata[O_X +: X_WIDTH];
+        ya_reg <= s_axis_tdata[O_Y +: Y_WIDTH];
+        la_reg <= in_l;
+        speca_reg <= s_axis_tdata[O_SPEC];
+        diffa_reg <= s_axis_tdata[O_DIFF];
+        ia_reg <= s_axis_tdata[O_IS +: CH * I_WIDTH];
+        for (c = 0; c < CH; c = c + 1) begin
+            da_reg[c*DI_WIDTH +: DI_WIDTH] <= {1'b0, s_axis_tdata[O_IE + c*I_WIDTH +: I_WIDTH]}
+                                            - {1'b0, s_axis_tdata[O_IS + c*I_WIDTH +: I_WIDTH]};
+        end
+        ca_reg <= s_axis_tdata[O_C +: C_WIDTH];
+        dza_reg <= s_axis_tdata[O_DZ +: Z_WIDTH];
+        z0a_reg <= s_axis_tdata[O_Z0 +: Z_WIDTH];
+        tsela_reg <= dec_index[TSEL_BITS-1:0];
+        nerra_reg <= dec_err;
+        dca_reg <= s_axis_tdata[O_DC +: CH * C_WIDTH];
+        ddza_reg <= s_axis_tdata[O_DDZ +: Z_WIDTH];
+        dz0a_reg <= s_axis_tdata[O_DZ0 +: Z_WIDTH];
+    end
+end
+
+// The ROM images' configuration fields, field 0 in the highest 32 bits (shading_rom FIELDS)
+function [32*12-1:0] fields(input [31:0] f0, input [31:0] f1, input [31:0] f2,
+                            input [31:0] f3, input [31:0] f4, input [31:0] f5,
+                            input [31:0] f6, input [31:0] f7, input [31:0] f8,
+                            input [31:0] f9, input [31:0] f10, input [31:0] f11);
+    begin
+        fields = {f0, f1, f2, f3, f4, f5, f6, f7, f8, f9, f10, f11};
+    end
+endfunction
+
+// The reciprocal ROM (read with l: round(2^N / l), the divider's word) and ROM 9 (a of n;
+// port B: a of n = 1, the diffuse jobs' word, read every clock)
+wire [RECIP_BITS:0] recip_q;
+// verilator lint_off UNUSEDSIGNAL
+wire [RECIP_BITS:0] recip_unused_b;  // the reciprocal ROM has one port
+// verilator lint_on UNUSEDSIGNAL
+wire [K_WIDTH-1:0]  recip_addr;
+generate
+    if (K_WIDTH > LEN_WIDTH) begin : g_recip_pad
+        assign recip_addr = {{(K_WIDTH-LEN_WIDTH){1'b0}}, in_l};
+    end else begin : g_recip_fit
+        assign recip_addr = in_l[K_WIDTH-1:0];
+    end
+endgenerate
+shading_rom #(
+    .WIDTH(RECIP_BITS + 1),
+    .DEPTH(1 << K_WIDTH),
+    .ADDR_BITS(K_WIDTH),
+    .PORTS(1),
+    .FILE(RECIP_ROM_FILE),
+    .NAME("RECIP_ROM_FILE"),
+    .MAGIC("DIVR"),
+    .NUM_FIELDS(2),
+    .FIELDS(fields(K_WIDTH, RECIP_BITS, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0)),
+    .FIELD_NAMES({"K_WIDTH         ", "RECIP_BITS      ", {(8*16*10){1'b0}}})
+) u_recip_rom (
+    .clk(clk),
+    .rd_en_a(ce),
+    .addr_a(recip_addr),
+    .q_a(recip_q),
+    .rd_en_b(1'b0),
+    .addr_b({K_WIDTH{1'b0}}),
+    .q_b(recip_unused_b)
+);
+
+localparam [8*10-1:0] ALPHA_INFLECTION = "inflection";
+localparam ALPHA_INDEX = (ALPHA == ALPHA_INFLECTION) ? 1 : 0;
+wire [AW-1:0] a_q;       // a of the span's n (stage B)
+wire [AW-1:0] a_diff_q;  // a of n = 1
+generate
+    if (SPECULAR != 0 || DIFFUSE != 0) begin : g_rom9
+        shading_rom #(
+            .WIDTH(AW),
+            .DEPTH(A_DEPTH),
+            .ADDR_BITS(A_ADDR_BITS),
+            .PORTS(2),
+            .FILE(A_ROM_FILE),
+            .NAME("A_ROM_FILE"),
+            .MAGIC("SR09"),
+            .NUM_FIELDS(12),
+            .FIELDS(fields(A_INT_BITS, A_FRAC_BITS, ALPHA_INDEX, NUM_TABLES, N_HI0, N_HI1,
+                           N_HI2, N_HI3, K0, K1, K2, K3)),
+            .FIELD_NAMES({"A_INT_BITS      ", "A_FRAC_BITS     ", "ALPHA           ",
+                          "NUM_TABLES      ", "N_HI0           ", "N_HI1           ",
+                          "N_HI2           ", "N_HI3           ", "K0              ",
+                          "K1              ", "K2              ", "K3              "})
+        ) u_rom9 (
+            .clk(clk),
+            .rd_en_a(ce),
+            .addr_a(a_addr),
+            .q_a(a_q),
+            .rd_en_b(1'b1),
+            .addr_b({A_ADDR_BITS{1'b0}}),
+            .q_b(a_diff_q)
+        );
+    end else begin : g_no_rom9
+        assign a_q = {AW{1'b0}};
+        assign a_diff_q = {AW{1'b0}};
+    end
+endgenerate
+
+// ---------------------------------------------------------------- stage B: the products
+reg [X_WIDTH-1:0]      xb_reg;
+reg [Y_WIDTH-1:0]      yb_reg;
+reg [LEN_WIDTH-1:0]    lb_reg;
+reg                    specb_reg;
+reg                    diffb_reg;
+reg [CH*I_WIDTH-1:0]   ib_reg;
+reg [C_WIDTH-1:0]      cb_reg;
+reg [Z_WIDTH-1:0]      dzb_reg;
+reg [Z_WIDTH-1:0]      z0b_reg;
+reg [TSEL_BITS-1:0]    tselb_reg;
+reg                    nerrb_reg;
+reg [AW-1:0]           ab_reg;
+reg [CH*C_WIDTH-1:0]   dcb_reg;
+reg [Z_WIDTH-1:0]      ddzb_reg;
+reg [Z_WIDTH-1:0]      dz0b_reg;
+wire [CH*DI_WIDTH-1:0] di_b;
+
+genvar g;
+generate
+    for (g = 0; g < CH; g = g + 1) begin : g_increment
+        shading_increment #(
+            .A_WIDTH(DI_WIDTH),
+            .RECIP_BITS(RECIP_BITS),
+            .DI_WIDTH(DI_WIDTH)
+        ) u_increment (
+            .clk(clk),
+            .ce(ce),
+            .a(da_reg[g*DI_WIDTH +: DI_WIDTH]),
+            .r(recip_q),
+            .di(di_b[g*DI_WIDTH +: DI_WIDTH])
+        );
+    end
+endgenerate
+
+always @(posedge clk) begin
+    if (ce) begin
+        xb_reg <= xa_reg;
+        yb_reg <= ya_reg;
+        lb_reg <= la_reg;
+        specb_reg <= speca_reg;
+        diffb_reg <= diffa_reg;
+        ib_reg <= ia_reg;
+        cb_reg <= ca_reg;
+        dzb_reg <= dza_reg;
+        z0b_reg <= z0a_reg;
+        tselb_reg <= tsela_reg;
+        nerrb_reg <= nerra_reg;
+        ab_reg <= a_q;
+        dcb_reg <= dca_reg;
+        ddzb_reg <= ddza_reg;
+        dz0b_reg <= dz0a_reg;
+    end
+end
+
+// ---------------------------------------------------------------- the span register (issuer)
+localparam OCC_BITS = (FIFO_DEPTH > 2048) ? 13 : (FIFO_DEPTH > 1024) ? 12
+                    : (FIFO_DEPTH > 512) ? 11 : (FIFO_DEPTH > 256) ? 10 : (FIFO_DEPTH > 128) ? 9
+                    : (FIFO_DEPTH > 64) ? 8 : (FIFO_DEPTH > 32) ? 7 : (FIFO_DEPTH > 16) ? 6 : 5;
+localparam [OCC_BITS-1:0] OCC_MAX = FIFO_DEPTH[OCC_BITS-1:0];
+
+reg                    act_reg;
+reg [LEN_WIDTH-1:0]    cnt_reg;
+reg [X_WIDTH-1:0]      x_reg;
+reg [Y_WIDTH-1:0]      y_reg;
+reg [CH*G_WIDTH-1:0]   gacc_reg;
+reg [CH*DI_WIDTH-1:0]  di_reg;
+reg [ACC_WIDTH-1:0]    zacc_reg;
+reg [Z_WIDTH-1:0]      dz_reg;
+reg [ACC_WIDTH-1:0]    dacc_reg;
+reg [Z_WIDTH-1:0]      ddz_reg;
+reg [C_WIDTH-1:0]      c_reg;
+reg [AW-1:0]           a_reg;
+reg [TSEL_BITS-1:0]    tsel_reg;
+reg                    szero_reg;  // the highlight is 0 (no highlight job, or n refused)
+reg                    dzero_reg;  // the diffuse terms are 0 (no diffuse jobs)
+reg                    err_reg;    // tuser of the span's pixels
+reg [CH*C_WIDTH-1:0]   dc_reg;
+reg [OCC_BITS-1:0]     occ_reg;
+
+wire out_fire = m_axis_tvalid && m_axis_tready;
+wire issue = act_reg && (occ_reg < OCC_MAX);
+wire last_px = (cnt_reg == {LEN_WIDTH{1'b0}});
+assign take = vb_reg && (!act_reg || (issue && last_px));
+assign ce = !vb_reg || take;
+
+localparam [G_WIDTH-1:0] G_BIAS = 1 << (I_FRAC - 1);
+integer ci;
+
+always @(posedge clk) begin
+    if (take) begin
+        cnt_reg <= lb_reg;
+        x_reg <= xb_reg;
+        y_reg <= yb_reg;
+        for (ci = 0; ci < CH; ci = ci + 1) begin
+            gacc_reg[ci*G_WIDTH +: G_WIDTH] <= {{(G_WIDTH-I_WIDTH){1'b0}},
+                                                ib_reg[ci*I_WIDTH +: I_WIDTH]} + G_BIAS;
+            di_reg[ci*DI_WIDTH +: DI_WIDTH] <= (lb_reg == {LEN_WIDTH{1'b0}}) ? {DI_WIDTH{1'b0}}
+                                               : di_b[ci*DI_WIDTH +: DI_WIDTH];
+        end
+        zacc_reg <= {{LEN_WIDTH{z0b_reg[Z_WIDTH-1]}}, z0b_reg};
+        dz_reg <= dzb_reg;
+        dacc_reg <= {{LEN_WIDTH{dz0b_reg[Z_WIDTH-1]}}, dz0b_reg};
+        ddz_reg <= ddzb_reg;
+        c_reg <= cb_reg;
+        a_reg <= ab_reg;
+        tsel_reg <= tselb_reg;
+        szero_reg <= !specb_reg || nerrb_reg || SPECULAR == 0;
+        dzero_reg <= !diffb_reg || DIFFUSE == 0;
+        err_reg <= (specb_reg && (nerrb_reg || SPECULAR == 0)) || (diffb_reg && DIFFUSE == 0);
+        dc_reg <= dcb_reg;
+    end else if (issue) begin
+        cnt_reg <= cnt_reg - {{(LEN_WIDTH-1){1'b0}}, 1'b1};
+        x_reg <= x_reg + {{(X_WIDTH-1){1'b0}}, 1'b1};
+        for (ci = 0; ci < CH; ci = ci + 1) begin
+            gacc_reg[ci*G_WIDTH +: G_WIDTH] <= gacc_reg[ci*G_WIDTH +: G_WIDTH]
+                + {{(G_WIDTH-DI_WIDTH){di_reg[ci*DI_WIDTH+DI_WIDTH-1]}},
+                   di_reg[ci*DI_WIDTH +: DI_WIDTH]};
+        end
+        zacc_reg <= zacc_reg + {{LEN_WIDTH{dz_reg[Z_WIDTH-1]}}, dz_reg};
+        dacc_reg <= dacc_reg + {{LEN_WIDTH{ddz_reg[Z_WIDTH-1]}}, ddz_reg};
+    end
+end
+
+// Control state
+always @(posedge clk) begin
+    if (ce) begin
+        va_reg <= s_fire;
+        vb_reg <= va_reg;
+    end
+    if (take) begin
+        act_reg <= 1'b1;
+    end else if (issue && last_px) begin
+        act_reg <= 1'b0;
+    end
+    occ_reg <= occ_reg + {{(OCC_BITS-1){1'b0}}, issue} - {{(OCC_BITS-1){1'b0}}, out_fire};
+    if (!rst_n) begin
+        va_reg <= 1'b0;
+        vb_reg <= 1'b0;
+        act_reg <= 1'b0;
+        occ_reg <= {OCC_BITS{1'b0}};
+    end
+end
+
+// ---------------------------------------------------------------- the pixel pipeline
+// S0 is the span register (the accumulators); S1..S8 as the specular unit's stages.  Beside
+// them: the Gouraud values (truncated and saturated from S0), x, y, tlast and tuser.
+localparam STAGES = 8;
+localparam SIDE = X_WIDTH + Y_WIDTH + CH * I_INT + 2;
+
+reg [STAGES:1]        v_reg;
+reg [STAGES*SIDE-1:0] side_reg;  // S1 in the low bits, S8 in the high
+
+wire [CH*I_INT-1:0] g_val;
+generate
+    for (g = 0; g < CH; g = g + 1) begin : g_gouraud
+        wire [G_WIDTH-1:0] acc = gacc_reg[g*G_WIDTH +: G_WIDTH];
+        wire [G_WIDTH-I_FRAC-1:0] whole = acc[G_WIDTH-1:I_FRAC];
+        wire neg = acc[G_WIDTH-1];
+        wire over = |whole[G_WIDTH-I_FRAC-1:I_INT];
+        assign g_val[g*I_INT +: I_INT] = neg ? {I_INT{1'b0}} : over ? G_MAX[I_INT-1:0]
+                                              : whole[I_INT-1:0];
+        // verilator lint_off UNUSEDSIGNAL
+        wire unused_frac = &{1'b0, acc[I_FRAC-1:0]};
+        // verilator lint_on UNUSEDSIGNAL
+    end
+endgenerate
+
+always @(posedge clk) begin
+    v_reg <= {v_reg[STAGES-1:1], issue};
+    side_reg <= {side_reg[0 +: (STAGES-1)*SIDE], err_reg, last_px, g_val, y_reg, x_reg};
+    if (!rst_n) begin
+        v_reg <= {STAGES{1'b0}};
+    end
+end
+
+localparam ROM12_ADDR = TSEL_BITS + ROM_ADDR_BITS;
+wire [OUT_WIDTH-1:0]    spec_int;
+wire [CH*OUT_WIDTH-1:0] diff_int;
+wire [ROM12_ADDR-1:0]   spec_addr;
+wire [ROM12_ADDR-1:0]   diff_addr;
+wire [ROM_DATA_BITS-1:0] spec_q;
+wire [ROM_DATA_BITS-1:0] diff_q;
+
+generate
+    if (SPECULAR != 0 || DIFFUSE != 0) begin : g_rom12
+        shading_rom #(
+            .WIDTH(ROM_DATA_BITS),
+            .DEPTH(1 << ROM12_ADDR),
+            .ADDR_BITS(ROM12_ADDR),
+            .PORTS(2),
+            .FILE(COS_ROM_FILE),
+            .NAME("COS_ROM_FILE"),
+            .MAGIC("SR12"),
+            .NUM_FIELDS(7),
+            .FIELDS(fields(ROM_ADDR_BITS, ROM_DATA_BITS, NUM_TABLES, K0, K1, K2, K3, 0, 0, 0,
+                           0, 0)),
+            .FIELD_NAMES({"ROM_ADDR_BITS   ", "ROM_DATA_BITS   ", "NUM_TABLES      ",
+                          "K0              ", "K1              ", "K2              ",
+                          "K3              ", {(8*16*5){1'b0}}})
+        ) u_rom12 (
+            .clk(clk),
+            .rd_en_a(1'b1),
+            .addr_a(spec_addr),
+            .q_a(spec_q),
+            .rd_en_b(1'b1),
+            .addr_b(diff_addr),
+            .q_b(diff_q)
+        );
+    end else begin : g_no_rom12
+        assign spec_q = {ROM_DATA_BITS{1'b0}};
+        assign diff_q = {ROM_DATA_BITS{1'b0}};
+    end
+
+    if (SPECULAR != 0) begin : g_highlight
+        shading_specular_pipe #(
+            .CHANNELS(1),
+            .ACC_WIDTH(ACC_WIDTH),
+            .Z_FRAC_BITS(Z_FRAC_BITS),
+            .MAG_INT_BITS(MAG_INT_BITS),
+            .A_WIDTH(AW),
+            .A_FRAC_BITS(A_FRAC_BITS),
+            .TSEL_BITS(TSEL_BITS),
+            .ROM_ADDR_BITS(ROM_ADDR_BITS),
+            .ROM_DATA_BITS(ROM_DATA_BITS),
+            .C_WIDTH(C_WIDTH),
+            .C_FRAC_BITS(C_FRAC_BITS),
+            .OUT_WIDTH(OUT_WIDTH)
+        ) u_highlight (
+            .clk(clk),
+            .acc_in(zacc_reg),
+            .a_in(a_reg),
+            .tsel_in(tsel_reg),
+            .zero_in(szero_reg),
+            .c_in(c_reg),
+            .rom_addr(spec_addr),
+            .rom_q(spec_q),
+            .intensity(spec_int)
+        );
+    end else begin : g_no_highlight
+        assign spec_int = {OUT_WIDTH{1'b0}};
+        assign spec_addr = {ROM12_ADDR{1'b0}};
+    end
+
+    if (DIFFUSE != 0) begin : g_diffuse
+        shading_specular_pipe #(
+            .CHANNELS(CH),
+            .ACC_WIDTH(ACC_WIDTH),
+            .Z_FRAC_BITS(Z_FRAC_BITS),
+            .MAG_INT_BITS(MAG_INT_BITS),
+            .A_WIDTH(AW),
+            .A_FRAC_BITS(A_FRAC_BITS),
+            .TSEL_BITS(TSEL_BITS),
+            .ROM_ADDR_BITS(ROM_ADDR_BITS),
+            .ROM_DATA_BITS(ROM_DATA_BITS),
+            .C_WIDTH(C_WIDTH),
+            .C_FRAC_BITS(C_FRAC_BITS),
+            .OUT_WIDTH(OUT_WIDTH)
+        ) u_diffuse (
+            .clk(clk),
+            .acc_in(dacc_reg),
+            .a_in(a_diff_q),
+            .tsel_in({TSEL_BITS{1'b0}}),  // n = 1 is in the first k range: table 0
+            .zero_in(dzero_reg),
+            .c_in(dc_reg),
+            .rom_addr(diff_addr),
+            .rom_q(diff_q),
+            .intensity(diff_int)
+        );
+    end else begin : g_no_diffuse
+        assign diff_int = {(CH*OUT_WIDTH){1'b0}};
+        assign diff_addr = {ROM12_ADDR{1'b0}};
+    end
+endgenerate
+
+// ---------------------------------------------------------------- the sum, the output FIFO
+localparam SUM_WIDTH = ((I_INT > OUT_WIDTH) ? I_INT : OUT_WIDTH) + 2;
+wire [SIDE-1:0]   side8 = side_reg[(STAGES-1)*SIDE +: SIDE];
+wire [3*8-1:0]    rgb;
+generate
+    for (g = 0; g < CH; g = g + 1) begin : g_sum
+        wire [SUM_WIDTH-1:0] total = {{(SUM_WIDTH-I_INT){1'b0}},
+                                      side8[X_WIDTH + Y_WIDTH + g*I_INT +: I_INT]}
+                                   + {{(SUM_WIDTH-OUT_WIDTH){1'b0}}, spec_int}
+                                   + {{(SUM_WIDTH-OUT_WIDTH){1'b0}},
+                                      diff_int[g*OUT_WIDTH +: OUT_WIDTH]};
+        assign rgb[g*8 +: 8] = (total > 255) ? 8'd255 : total[7:0];
+    end
+endgenerate
+
+wire [PIX_WIDTH-1:0] pix_data;
+generate
+    if (PIX_WIDTH > PIX_BITS) begin : g_pad
+        assign pix_data = {{(PIX_WIDTH-PIX_BITS){1'b0}}, rgb, side8[X_WIDTH+Y_WIDTH-1:0]};
+    end else begin : g_nopad
+        assign pix_data = {rgb, side8[X_WIDTH+Y_WIDTH-1:0]};
+    end
+endgenerate
+
+// The FIFO always has room for a pixel in S8 (the credit count), so its s_axis_tready is
+// not needed
+// verilator lint_off UNUSEDSIGNAL
+wire fifo_ready;
+// verilator lint_on UNUSEDSIGNAL
+shading_axis_fifo #(
+    .DATA_WIDTH(PIX_WIDTH),
+    .USER_WIDTH(1),
+    .DEPTH(FIFO_DEPTH)
+) u_fifo (
+    .clk(clk),
+    .rst_n(rst_n),
+    .s_axis_tdata(pix_data),
+    .s_axis_tlast(side8[SIDE-2]),
+    .s_axis_tuser(side8[SIDE-1]),
+    .s_axis_tvalid(v_reg[STAGES]),
+    .s_axis_tready(fifo_ready),
+    .m_axis_tdata(m_axis_tdata),
+    .m_axis_tlast(m_axis_tlast),
+    .m_axis_tuser(m_axis_tuser),
+    .m_axis_tvalid(m_axis_tvalid),
+    .m_axis_tready(m_axis_tready)
+);
+
+// Span-beat bits past the fields, and the fields a path this core was built without
+// verilator lint_off UNUSEDSIGNAL
+wire unused_in = &{1'b0, s_axis_tdata, a_diff_q, dec_index, n_off};
+// verilator lint_on UNUSEDSIGNAL
+
+endmodule
+
+`resetall

@@ -1,0 +1,213 @@
+// SPDX-License-Identifier: Apache-2.0
+/*
+ * A ROM from a model-generated $readmemh image (model.rom.format_image), with one or two
+ * synchronous read ports, and the image check in simulation.  The shading core's three ROMs
+ * (the divider's reciprocals, the specular unit's ROM 9 and ROM 12) are instances of it.
+ *
+ * Image: DEPTH data words of WIDTH bits, then the check fields, each a 32-bit value in CHUNKS
+ * words of WIDTH bits, low bits first: MAGIC, depth, width, the NUM_FIELDS configuration values
+ * of FIELDS, the FNV-1a checksum of the data words (over 32-bit pieces, low first) and "END!".
+ * At time 0 the whole image is read; every word must be defined (Icarus leaves X for a missing
+ * file, a short file or a non-hex word) and every field must be this instance's.  A bad image
+ * prints the file, the field, what it holds and what this instance needs, and ends the run
+ * with a non-zero exit status: $fatal under Icarus, $stop under other simulators (Verilator
+ * exits with an error; $fatal is SystemVerilog, which Verilator's 1364-2005 mode refuses).
+ * Synthesis (SYNTHESIS defined, as Yosys does) loads the data words only: the check words fall
+ * past the end of the array, which Yosys drops, so the ROM stays DEPTH words of block RAM.
+ *
+ * Ports: rd_en_a / addr_a -> q_a (q_a <= rom[addr_a] at a rising edge with rd_en_a); port B
+ * the same when PORTS = 2 (its outputs are 0 when PORTS = 1).  The read registers have no
+ * reset, so that they map onto a block RAM's output registers.
+ */
+
+`resetall
+`timescale 1ns / 1ps
+`default_nettype none
+
+module shading_rom #(
+    // Data word bits
+    parameter WIDTH = 16,
+    // Data words
+    parameter DEPTH = 1024,
+    // Address bits (2^ADDR_BITS >= DEPTH)
+    parameter ADDR_BITS = 10,
+    // Read ports, 1 or 2
+    parameter PORTS = 1,
+    // The $readmemh image
+    parameter FILE = "rom.hex",
+    // What the ROM is, for the messages
+    parameter [8*32-1:0] NAME = "ROM",
+    // The image's first check field
+    parameter [31:0] MAGIC = "ROM?",
+    // Configuration fields after depth and width, 0..12
+    parameter NUM_FIELDS = 0,
+    // Their values, field 0 in the highest 32 bits of the 12 (unused fields 0)
+    parameter [32*12-1:0] FIELDS = {(32*12){1'b0}},
+    // Their names, 16 characters each, field 0 first (in the highest bits)
+    parameter [8*16*12-1:0] FIELD_NAMES = {(8*16*12){1'b0}}
+) (
+    input  wire                 clk,
+    input  wire                 rd_en_a,
+    input  wire [ADDR_BITS-1:0] addr_a,
+    output wire [WIDTH-1:0]     q_a,
+    input  wire                 rd_en_b,
+    input  wire [ADDR_BITS-1:0] addr_b,
+    output wire [WIDTH-1:0]     q_b
+);
+
+// ---------------------------------------------------------------- parameter check
+generate
+    if (WIDTH < 1 || WIDTH > 64) begin : g_check_width
+        shading_rom_PARAMETER_ERROR_WIDTH_must_be_1_to_64 u_error ();
+    end
+    if (DEPTH < 1 || DEPTH > (1 << ADDR_BITS)) begin : g_check_depth
+        shading_rom_PARAMETER_ERROR_DEPTH_must_be_1_to_2_pow_ADDR_BITS u_error ();
+    end
+    if (ADDR_BITS < 1 || ADDR_BITS > 20) begin : g_check_addr_bits
+        shading_rom_PARAMETER_ERROR_ADDR_BITS_must_be_1_to_20 u_error ();
+    end
+    if (PORTS != 1 && PORTS != 2) begin : g_check_ports
+        shading_rom_PARAMETER_ERROR_PORTS_must_be_1_or_2 u_error ();
+    end
+    if (NUM_FIELDS < 0 || NUM_FIELDS > 12) begin : g_check_num_fields
+        shading_rom_PARAMETER_ERROR_NUM_FIELDS_must_be_0_to_12 u_error ();
+    end
+endgenerate
+
+reg [WIDTH-1:0] rom [0:DEPTH-1];
+reg [WIDTH-1:0] q_a_reg;
+
+`ifdef SYNTHESIS
+initial begin
+    $readmemh(FILE, rom);
+end
+`else
+// ---------------------------------------------------------------- ROM image check (simulation)
+localparam CHUNKS = (32 + WIDTH - 1) / WIDTH;
+localparam TOTAL_FIELDS = NUM_FIELDS + 5;
+localparam WORDS = DEPTH + TOTAL_FIELDS * CHUNKS;
+
+reg [WIDTH-1:0] image [0:WORDS-1];
+
+function [31:0] expected(input integer f, input [31:0] sum);
+    begin
+        if (f == 0) begin
+            expected = MAGIC;
+        end else if (f == 1) begin
+            expected = DEPTH;
+        end else if (f == 2) begin
+            expected = WIDTH;
+        end else if (f < 3 + NUM_FIELDS) begin
+            expected = FIELDS[32*(12-1-(f-3)) +: 32];
+        end else if (f == 3 + NUM_FIELDS) begin
+            expected = sum;
+        end else begin
+            expected = "END!";
+        end
+    end
+endfunction
+
+function [8*16-1:0] field_name(input integer f);
+    begin
+        if (f == 0) begin
+            field_name = "magic";
+        end else if (f == 1) begin
+            field_name = "depth";
+        end else if (f == 2) begin
+            field_name = "width";
+        end else if (f < 3 + NUM_FIELDS) begin
+            field_name = FIELD_NAMES[8*16*(12-1-(f-3)) +: 8*16];
+        end else if (f == 3 + NUM_FIELDS) begin
+            field_name = "checksum";
+        end else begin
+            field_name = "end mark";
+        end
+    end
+endfunction
+
+reg                     chk_bad;
+integer                 chk_i;
+integer                 chk_p;
+reg [WIDTH+31:0]        chk_word;
+// verilator lint_off UNUSEDSIGNAL
+reg [WIDTH*CHUNKS-1:0]  chk_found;  // its low 32 bits are the field
+// verilator lint_on UNUSEDSIGNAL
+reg [31:0]              chk_want;
+reg [31:0]              chk_sum;
+
+initial begin
+    $readmemh(FILE, image);
+    chk_bad = 1'b0;
+    for (chk_i = 0; chk_i < WORDS; chk_i = chk_i + 1) begin
+        if (!chk_bad && ^image[chk_i] === 1'bx) begin
+            $write("%m: %0s \"%0s\": word %0d is undefined: the file is missing or ", NAME,
+                   FILE, chk_i);
+            $write("unreadable, has fewer than the %0d words of this image (%0d data + ",
+                   WORDS, DEPTH);
+            $display("%0d check words of %0d bits) or a non-hex word there; regenerate it "
+                     , TOTAL_FIELDS * CHUNKS, WIDTH, "with make roms");
+            chk_bad = 1'b1;
+        end
+    end
+    chk_sum = 32'h811c9dc5;
+    for (chk_i = 0; chk_i < DEPTH; chk_i = chk_i + 1) begin
+        chk_word = {32'd0, image[chk_i]};
+        for (chk_p = 0; chk_p < WIDTH; chk_p = chk_p + 32) begin
+            chk_sum = (chk_sum ^ chk_word[chk_p +: 32]) * 32'h01000193;
+        end
+    end
+    for (chk_i = 0; chk_i < TOTAL_FIELDS; chk_i = chk_i + 1) begin
+        for (chk_p = 0; chk_p < CHUNKS; chk_p = chk_p + 1) begin
+            chk_found[chk_p*WIDTH +: WIDTH] = image[DEPTH + chk_i * CHUNKS + chk_p];
+        end
+        chk_want = expected(chk_i, chk_sum);
+        if (!chk_bad && chk_found[31:0] !== chk_want) begin
+            $write("%m: %0s \"%0s\": check field %0s is %0d (0x%0h), ", NAME, FILE,
+                   field_name(chk_i), chk_found[31:0], chk_found[31:0]);
+            $write("this instance needs %0d (0x%0h): %0s ", chk_want, chk_want,
+                   (chk_i == 3 + NUM_FIELDS) ? "a data word differs from" : "the file is not");
+            $display("the image of this configuration; regenerate it with make roms");
+            chk_bad = 1'b1;
+        end
+    end
+    if (chk_bad) begin
+        $fflush;
+`ifdef __ICARUS__
+        $fatal(1, "%m: bad ROM image (see above)");
+`else
+        $stop;
+`endif
+    end
+    for (chk_i = 0; chk_i < DEPTH; chk_i = chk_i + 1) begin
+        rom[chk_i] = image[chk_i];
+    end
+end
+`endif
+
+always @(posedge clk) begin
+    if (rd_en_a) begin
+        q_a_reg <= rom[addr_a];
+    end
+end
+assign q_a = q_a_reg;
+
+generate
+    if (PORTS == 2) begin : g_port_b
+        reg [WIDTH-1:0] q_b_reg;
+        always @(posedge clk) begin
+            if (rd_en_b) begin
+                q_b_reg <= rom[addr_b];
+            end
+        end
+        assign q_b = q_b_reg;
+    end else begin : g_one_port
+        // verilator lint_off UNUSEDSIGNAL
+        wire unused_b = &{1'b0, rd_en_b, addr_b};
+        // verilator lint_on UNUSEDSIGNAL
+        assign q_b = {WIDTH{1'b0}};
+    end
+endgenerate
+
+endmodule
+
+`resetall

@@ -1,0 +1,242 @@
+# SPDX-License-Identifier: Apache-2.0
+"""The shading core's stream bench (``sim/vectors/tb_shading_core.v``): build it under Icarus
+or ``verilator --binary`` from ``rtl/shading_core.f``, run span beats through it with random
+input idles and output stalls, and compare every pixel beat with the model of the core
+(``model.render.core.core_pixels``).  A mismatch names the pixel, what the RTL gave, what the
+model gives and the span beat that reproduces it."""
+
+from __future__ import annotations
+
+import hashlib
+import re
+import shutil
+import subprocess
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from model.hw.sources import source_list
+from model.hw.synth import synth_parameters
+from model.render import core
+from model.render.pipeline import PipelineConfig
+from sim import vector_run
+from sim.runner import SIM_BUILD
+
+BENCH = vector_run.VECTOR_DIR / "tb_shading_core.v"
+BUILDS = SIM_BUILD / "core_builds"
+DONE = re.compile(
+    r"DONE spans=(\d+) pixels=(\d+) first_in=(-?\d+) last_out=(-?\d+) cycles=(-?\d+) "
+    r"stalls=(\d+) errors=(\d+)"
+)
+
+
+@dataclass
+class CoreRun:
+    """One run of span beats through the core's RTL."""
+
+    spans: int
+    pixels: int
+    cycles: int  # clocks from the first span beat taken to the last pixel beat, inclusive
+    stalls: int  # clocks a pixel beat waited for tready
+    protocol_errors: int
+    mismatches: list[str] = field(default_factory=list)
+    build_s: float = 0.0
+    run_s: float = 0.0
+    beats: list[tuple[int, int, int]] = field(default_factory=list)  # (tdata, tlast, tuser)
+
+    @property
+    def px_per_clock(self) -> float:
+        return self.pixels / max(self.cycles, 1)
+
+
+def parameters(cfg: PipelineConfig, rom_dir: Path | None = None, **kw) -> dict[str, object]:
+    """``core.core_parameters`` with every ROM image on disk (a fitted configuration's images
+    are generated into ``rom_dir``, as ``model.hw.synth.synth_parameters`` does per unit)."""
+    params = core.core_parameters(cfg, **kw)
+    params["RECIP_ROM_FILE"] = synth_parameters("divider_shift", cfg.divider, rom_dir)["ROM_FILE"]
+    spec = synth_parameters("specular_unit", cfg.specular, rom_dir)
+    params["A_ROM_FILE"], params["COS_ROM_FILE"] = spec["A_ROM_FILE"], spec["COS_ROM_FILE"]
+    return params
+
+
+def _verilog(params: dict[str, object]) -> dict[str, str]:
+    return {k: (f'"{v}"' if isinstance(v, str) else str(int(v))) for k, v in params.items()}
+
+
+def build(
+    params: dict[str, object], sim: str = "icarus", rtl: list[Path] | None = None
+) -> tuple[list[str], Path, float]:
+    """(command, folder, seconds) of the built bench for ``params`` (cached by content);
+    ``rtl``: the core's sources (default: what ``rtl/shading_core.f`` lists)."""
+    if sim not in vector_run.SIMS:
+        raise ValueError(f"sim = {sim!r} is out of range: legal values are {vector_run.SIMS}")
+    sources = [BENCH, *(rtl or source_list("shading_core"))]
+    verilog = _verilog(params)
+    common = [f'-DSHADING_ROM_DIR="{vector_run.RTL_DIR / "rom"}"']
+    digest = hashlib.sha256(vector_run.tool_version(sim).encode())
+    for path in sources:
+        digest.update(path.read_bytes())
+    digest.update(repr((sorted(verilog.items()), vector_run.VERILATOR_FLAGS)).encode())
+    folder = BUILDS / f"{sim}_{digest.hexdigest()[:16]}"
+    top = "tb_shading_core"
+    if sim == "icarus":
+        exe = folder / f"{top}.vvp"
+        cmd = ["iverilog", "-g2005", "-o", str(exe), "-s", top, *common]
+        cmd += [f"-P{top}.{k}={v}" for k, v in verilog.items()] + [str(s) for s in sources]
+        command = ["vvp", "-n", str(exe)]
+    else:
+        exe = folder / "obj" / f"V{top}"
+        cmd = ["verilator", "--binary", *vector_run.VERILATOR_FLAGS, "--top-module", top]
+        cmd += ["-Mdir", str(folder / "obj"), *common]
+        cmd += [f"-G{k}={v}" for k, v in verilog.items()] + [str(s) for s in sources]
+        command = [str(exe)]
+    if (folder / "built.ok").exists() and exe.exists():
+        return command, folder, 0.0
+    shutil.rmtree(folder, ignore_errors=True)
+    folder.mkdir(parents=True)
+    t0 = time.monotonic()
+    made = subprocess.run(cmd, capture_output=True, text=True, cwd=folder, timeout=3600)
+    if made.returncode != 0 or not exe.exists():
+        raise RuntimeError(f"{sim} could not build the core's bench:\n{made.stdout}{made.stderr}")
+    (folder / "built.ok").write_text(" ".join(cmd) + "\n")
+    return command, folder, time.monotonic() - t0
+
+
+def run_words(
+    words: list[int],
+    fmt: core.SpanFormat,
+    params: dict[str, object],
+    sim: str = "icarus",
+    idle_pct: int = 0,
+    stall_pct: int = 0,
+    seed: int = 1,
+    tag: str = "core",
+    rtl: list[Path] | None = None,
+) -> CoreRun:
+    """Span beats ``words`` through the core's RTL; every pixel beat compared with
+    ``core.core_pixels`` of the same words."""
+    if not words:
+        raise ValueError("words is empty: the core's bench needs at least one span beat")
+    want = core.core_pixels(words, fmt)
+    command, folder, build_s = build(params, sim, rtl)
+    work = SIM_BUILD / tag
+    work.mkdir(parents=True, exist_ok=True)
+    span_file, out_file = work / "spans.hex", work / "pixels.hex"
+    digits = -(-fmt.width // 4)
+    span_file.write_text("".join(f"{w:0{digits}x}\n" for w in words))
+    out_file.unlink(missing_ok=True)
+    args = [
+        f"+SPAN_FILE={span_file}", f"+OUT_FILE={out_file}", f"+SPANS={len(words)}",
+        f"+PIXELS={len(want)}", f"+IDLE_PCT={idle_pct}", f"+STALL_PCT={stall_pct}",
+        f"+SEED={seed}", f"+MAX_CYCLES={40 * len(want) + 10000}",
+    ]  # fmt: skip
+    t0 = time.monotonic()
+    ran = subprocess.run([*command, *args], capture_output=True, text=True, cwd=folder,
+                         timeout=3600)  # fmt: skip
+    run_s = time.monotonic() - t0
+    log = ran.stdout + ran.stderr
+    done = DONE.search(log)
+    if ran.returncode != 0 or done is None:
+        raise AssertionError(f"the core's bench did not finish (exit {ran.returncode}):\n{log}")
+    beats = []
+    for line in out_file.read_text().split("\n"):
+        if line.strip():
+            d, last, user = line.split()
+            beats.append((int(d, 16), int(last, 16), int(user, 16)))
+    result = CoreRun(
+        spans=int(done.group(1)),
+        pixels=int(done.group(2)),
+        cycles=int(done.group(5)),
+        stalls=int(done.group(6)),
+        protocol_errors=int(done.group(7)),
+        build_s=build_s,
+        run_s=run_s,
+        beats=beats,
+    )
+    result.mismatches = compare(beats, want, words, fmt)
+    if result.protocol_errors:
+        result.mismatches.insert(0, f"{result.protocol_errors} AXI4-Stream rule violations:\n{log}")
+    return result
+
+
+def compare(
+    beats: list[tuple[int, int, int]], want: list[dict[str, int]], words: list[int],
+    fmt: core.SpanFormat,
+) -> list[str]:  # fmt: skip
+    """Every difference between the RTL's beats and the model's pixels, each with the span
+    beat that reproduces it (the first 20)."""
+    pix = core.PixelFormat(fmt.x_width, fmt.y_width)
+    layout = pix.layout()
+    span_of = [s for s, w in enumerate(words)
+               for _ in range(core.unpack(fmt.layout(), w)["l"] + 1)]  # fmt: skip
+    out = []
+    if len(beats) != len(want):
+        out.append(f"the RTL gave {len(beats)} pixel beats, the model {len(want)}")
+    for i, (got, exp) in enumerate(zip(beats, want, strict=False)):
+        g = {**core.unpack(layout, got[0]), "last": got[1], "n_err": got[2]}
+        if g != exp:
+            s = span_of[i]
+            out.append(
+                f"pixel {i} (span {s}): RTL {g}, model {exp}; span beat 0x{words[s]:x} = "
+                f"{core.unpack(fmt.layout(), words[s])}"
+            )
+            if len(out) >= 20:
+                break
+    return out
+
+
+@dataclass
+class FrameResult:
+    """A frame through the core's RTL and through the model."""
+
+    rtl_rgb: object
+    model_rgb: object
+    run: CoreRun
+    model_cycles: int  # core.core_cycles of the frame's pixels
+
+    @property
+    def equal(self) -> bool:
+        import numpy as np
+
+        return bool(np.array_equal(self.rtl_rgb, self.model_rgb))
+
+
+def cosimulate(
+    scene_name="sphere", size: int = 64, method: str | PipelineConfig = "hybrid",
+    sim: str = "icarus", idle_pct: int = 0, stall_pct: int = 0, seed: int = 1,
+    tag: str = "core_scene",
+) -> FrameResult:  # fmt: skip
+    """Render a scene through the core's RTL: the frame's span beats in, the pixel beats out,
+    the frame assembled from them by the rasteriser's depth test; and through the model
+    (``pipeline.unit_shader``).  ``scene_name``: a built-in scene's name or a ``scene.Scene``."""
+    import numpy as np
+
+    from model.render import pipeline, raster, scene, scenefile, shade
+
+    cfg = method if isinstance(method, PipelineConfig) else pipeline.METHODS[method]
+    if isinstance(scene_name, scene.Scene):
+        frame_scene = scene_name
+    else:
+        frame_scene = scenefile.builtin_scene(scene_name, size, size)
+    frame_raster = raster.rasterise(frame_scene)
+    fmt = core.SpanFormat(cfg)
+    stream = core.frame_stream(frame_raster, cfg, fmt)
+    params = parameters(cfg, SIM_BUILD / f"{tag}_roms")
+    result = run_words(stream.words, fmt, params, sim, idle_pct, stall_pct, seed, tag)
+    if result.mismatches:
+        raise AssertionError("the core's RTL differs from its model:\n" + "\n".join(
+            result.mismatches))  # fmt: skip
+    layout = core.PixelFormat(fmt.x_width, fmt.y_width).layout()
+    rgb = np.array([[core.unpack(layout, b[0])[k] for k in ("r", "g", "b")]
+                    for b in result.beats], dtype=np.uint8).reshape(-1, 3)  # fmt: skip
+    per_object, at = {}, 0
+    for obj, n in zip(stream.objects, stream.pixels, strict=True):
+        per_object[obj] = rgb[at : at + n]
+        at += n
+
+    def replay(spans, ctx):
+        return per_object[ctx.obj]
+
+    rtl_rgb = shade.shade(frame_raster, replay).rgb
+    model_rgb = shade.shade(frame_raster, pipeline.unit_shader(cfg)).rgb
+    return FrameResult(rtl_rgb, model_rgb, result, core.core_cycles(stream.total_pixels))

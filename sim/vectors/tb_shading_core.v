@@ -1,0 +1,226 @@
+// SPDX-License-Identifier: Apache-2.0
+// Stream bench of rtl/shading_core.v (sim/core_run.py): span beats from a $readmemh file into
+// s_axis, with an idle cycle before a beat with probability IDLE_PCT %, m_axis_tready low with
+// probability STALL_PCT % (a seeded LFSR), every output beat written to +OUT_FILE (tdata,
+// tlast, tuser as hex), the AXI4-Stream rules checked on both ports in every cycle (tvalid
+// held until tready, tdata/tlast/tuser stable while stalled), and the clocks counted from the
+// first span beat taken to the last pixel beat.  Python compares the beats with the model
+// (model.render.core.core_pixels).  Plain Verilog-2005: Icarus and verilator --binary.
+
+`resetall
+`timescale 1ns / 1ps
+`default_nettype none
+
+`ifndef SHADING_ROM_DIR
+`define SHADING_ROM_DIR "rom"
+`endif
+
+module tb_shading_core #(
+    parameter X_WIDTH = 12,
+    parameter Y_WIDTH = 12,
+    parameter SPECULAR = 1,
+    parameter DIFFUSE = 1,
+    parameter FIFO_DEPTH = 32,
+    parameter A_WIDTH = 21,
+    parameter K_WIDTH = 11,
+    parameter RECIP_BITS = 20,
+    parameter RECIP_ROM_FILE = {`SHADING_ROM_DIR, "/divider_recip_k11_n20.hex"},
+    parameter I_INT = 8,
+    parameter I_FRAC = 12,
+    parameter LEN_WIDTH = 11,
+    parameter C_INT_BITS = 8,
+    parameter C_FRAC_BITS = 8,
+    parameter Z_INT_BITS = 3,
+    parameter Z_FRAC_BITS = 26,
+    parameter SPEC_LEN_WIDTH = 11,
+    parameter A_INT_BITS = 3,
+    parameter A_FRAC_BITS = 14,
+    parameter ROM_ADDR_BITS = 12,
+    parameter ROM_DATA_BITS = 16,
+    parameter OUT_WIDTH = 8,
+    parameter NUM_TABLES = 4,
+    parameter N_HI0 = 1,
+    parameter N_HI1 = 2,
+    parameter N_HI2 = 6,
+    parameter N_HI3 = 1000,
+    parameter K0 = 1,
+    parameter K1 = 2,
+    parameter K2 = 4,
+    parameter K3 = 16,
+    parameter [8*10-1:0] ALPHA = "taylor",
+    parameter MAG_INT_BITS = 1,
+    parameter N_FIRST = 1,
+    parameter N_LAST = 1000,
+    parameter A_ROM_FILE = {`SHADING_ROM_DIR,
+                            "/specular_a_taylor_n1k1_n2k2_n3-6k4_n7-1000k16_q3.14.hex"},
+    parameter COS_ROM_FILE = {`SHADING_ROM_DIR, "/specular_cos_k1-2-4-16_a12_d16.hex"},
+    // the largest span file the bench holds
+    parameter MAX_SPANS = 1 << 20
+);
+
+localparam SPAN_WIDTH = (X_WIDTH + Y_WIDTH + LEN_WIDTH + 2 + 6 * (I_INT + I_FRAC)
+                         + 4 * (C_INT_BITS + C_FRAC_BITS) + 4 * (Z_INT_BITS + Z_FRAC_BITS)
+                         + 10 + 7) / 8 * 8;
+localparam PIX_WIDTH = (X_WIDTH + Y_WIDTH + 24 + 7) / 8 * 8;
+
+reg clk = 1'b0;
+reg rst_n = 1'b0;
+reg [SPAN_WIDTH-1:0] s_tdata = {SPAN_WIDTH{1'b0}};
+reg s_tvalid = 1'b0;
+wire s_tready;
+wire [PIX_WIDTH-1:0] m_tdata;
+wire m_tlast;
+wire m_tuser;
+wire m_tvalid;
+reg m_tready = 1'b0;
+
+shading_core #(
+    .X_WIDTH(X_WIDTH), .Y_WIDTH(Y_WIDTH), .SPECULAR(SPECULAR), .DIFFUSE(DIFFUSE),
+    .FIFO_DEPTH(FIFO_DEPTH), .A_WIDTH(A_WIDTH), .K_WIDTH(K_WIDTH), .RECIP_BITS(RECIP_BITS),
+    .RECIP_ROM_FILE(RECIP_ROM_FILE), .I_INT(I_INT), .I_FRAC(I_FRAC), .LEN_WIDTH(LEN_WIDTH),
+    .C_INT_BITS(C_INT_BITS), .C_FRAC_BITS(C_FRAC_BITS), .Z_INT_BITS(Z_INT_BITS),
+    .Z_FRAC_BITS(Z_FRAC_BITS), .SPEC_LEN_WIDTH(SPEC_LEN_WIDTH), .A_INT_BITS(A_INT_BITS),
+    .A_FRAC_BITS(A_FRAC_BITS), .ROM_ADDR_BITS(ROM_ADDR_BITS), .ROM_DATA_BITS(ROM_DATA_BITS),
+    .OUT_WIDTH(OUT_WIDTH), .NUM_TABLES(NUM_TABLES), .N_HI0(N_HI0), .N_HI1(N_HI1),
+    .N_HI2(N_HI2), .N_HI3(N_HI3), .K0(K0), .K1(K1), .K2(K2), .K3(K3), .ALPHA(ALPHA),
+    .MAG_INT_BITS(MAG_INT_BITS), .N_FIRST(N_FIRST), .N_LAST(N_LAST),
+    .A_ROM_FILE(A_ROM_FILE), .COS_ROM_FILE(COS_ROM_FILE)
+) dut (
+    .clk(clk),
+    .rst_n(rst_n),
+    .s_axis_tdata(s_tdata),
+    .s_axis_tvalid(s_tvalid),
+    .s_axis_tready(s_tready),
+    .m_axis_tdata(m_tdata),
+    .m_axis_tlast(m_tlast),
+    .m_axis_tuser(m_tuser),
+    .m_axis_tvalid(m_tvalid),
+    .m_axis_tready(m_tready)
+);
+
+reg [SPAN_WIDTH-1:0] spans [0:MAX_SPANS-1];
+reg [1023:0] span_file;
+reg [1023:0] out_file;
+integer n_spans;
+integer n_pixels;
+integer idle_pct;
+integer stall_pct;
+integer seed;
+integer max_cycles;
+integer fd;
+integer sent;
+integer received;
+integer cycle;
+integer first_in;
+integer last_out;
+integer errors;
+integer stalls;
+reg [31:0] lfsr;
+reg held_valid;
+reg [PIX_WIDTH+1:0] held_beat;
+
+function [31:0] next_lfsr(input [31:0] v);
+    begin
+        next_lfsr = {v[30:0], v[31] ^ v[21] ^ v[1] ^ v[0]};
+    end
+endfunction
+
+// A pseudo-random percentage 0..99 from the LFSR
+function integer pct(input [31:0] v);
+    begin
+        pct = v[15:0] % 100;
+    end
+endfunction
+
+always #5 clk = ~clk;
+
+initial begin
+    if (!$value$plusargs("SPAN_FILE=%s", span_file)) span_file = "spans.hex";
+    if (!$value$plusargs("OUT_FILE=%s", out_file)) out_file = "pixels.hex";
+    if (!$value$plusargs("SPANS=%d", n_spans)) n_spans = 0;
+    if (!$value$plusargs("PIXELS=%d", n_pixels)) n_pixels = 0;
+    if (!$value$plusargs("IDLE_PCT=%d", idle_pct)) idle_pct = 0;
+    if (!$value$plusargs("STALL_PCT=%d", stall_pct)) stall_pct = 0;
+    if (!$value$plusargs("SEED=%d", seed)) seed = 1;
+    if (!$value$plusargs("MAX_CYCLES=%d", max_cycles)) max_cycles = 100000000;
+    if (n_spans < 1 || n_spans > MAX_SPANS) begin
+        $display("tb_shading_core: +SPANS=%0d is out of range: legal is 1..%0d", n_spans,
+                 MAX_SPANS);
+        $fflush;
+        $stop;
+    end
+    $readmemh(span_file, spans, 0, n_spans - 1);
+    fd = $fopen(out_file, "w");
+    lfsr = seed ^ 32'h5eed1234;
+    if (lfsr == 32'd0) lfsr = 32'h1;
+    sent = 0;
+    received = 0;
+    cycle = 0;
+    first_in = -1;
+    last_out = -1;
+    errors = 0;
+    stalls = 0;
+    held_valid = 1'b0;
+    held_beat = {(PIX_WIDTH+2){1'b0}};
+    repeat (3) @(posedge clk);
+    rst_n <= 1'b1;
+end
+
+// Drive and check at each rising edge (non-blocking: the values of the next cycle)
+always @(posedge clk) begin
+    if (rst_n) begin
+        cycle = cycle + 1;
+        // the input: a beat moves when tvalid && tready
+        if (s_tvalid && s_tready) begin
+            if (first_in < 0) first_in = cycle;
+            sent = sent + 1;
+        end
+        // the output: a beat moves when tvalid && tready; a stalled beat must hold
+        if (held_valid && !m_tvalid) begin
+            $display("tb_shading_core: cycle %0d: m_axis_tvalid fell before tready", cycle);
+            errors = errors + 1;
+        end
+        if (held_valid && m_tvalid && {m_tuser, m_tlast, m_tdata} !== held_beat) begin
+            $display("tb_shading_core: cycle %0d: m_axis_t* changed while stalled", cycle);
+            errors = errors + 1;
+        end
+        if (m_tvalid && m_tready) begin
+            $fwrite(fd, "%h %h %h\n", m_tdata, m_tlast, m_tuser);
+            received = received + 1;
+            last_out = cycle;
+            held_valid = 1'b0;
+        end else begin
+            held_valid = m_tvalid;
+            held_beat = {m_tuser, m_tlast, m_tdata};
+            if (m_tvalid) stalls = stalls + 1;
+        end
+        if (^{m_tvalid, s_tready} === 1'bx) begin
+            $display("tb_shading_core: cycle %0d: tvalid or tready is X", cycle);
+            errors = errors + 1;
+        end
+        // the next cycle's beat and tready
+        lfsr = next_lfsr(lfsr);
+        if (!(s_tvalid && !s_tready)) begin
+            if (sent < n_spans && pct(lfsr) >= idle_pct) begin
+                s_tvalid <= 1'b1;
+                s_tdata <= spans[sent];
+            end else begin
+                s_tvalid <= 1'b0;
+            end
+        end
+        lfsr = next_lfsr(lfsr);
+        m_tready <= (pct(lfsr) >= stall_pct);
+        if (received == n_pixels || cycle >= max_cycles) begin
+            $fclose(fd);
+            $display("DONE spans=%0d pixels=%0d first_in=%0d last_out=%0d cycles=%0d stalls=%0d errors=%0d",
+                     sent, received, first_in, last_out, last_out - first_in + 1, stalls,
+                     errors);
+            $fflush;
+            $finish;
+        end
+    end
+end
+
+endmodule
+
+`resetall

@@ -1,0 +1,220 @@
+# SPDX-License-Identifier: Apache-2.0
+"""The shading core (rtl/shading_core.v, docs/core.md): its stream formats and model, and its
+RTL through the stream bench (sim/core_run.py) against the model, byte for byte and clock for
+clock."""
+
+from __future__ import annotations
+
+import shutil
+
+import numpy as np
+import pytest
+
+from model.hw.sources import source_list
+from model.render import core
+from model.render.pipeline import METHODS, PipelineConfig
+from model.units import gouraud, specular
+from sim import core_run
+
+pytestmark = pytest.mark.sim
+
+DEFAULT = METHODS["diffuse"]  # both paths: the highlight and the diffuse jobs
+
+
+def random_words(fmt: core.SpanFormat, count: int, seed: int, lengths=None) -> list[int]:
+    """Span beats with every field random in its range (``lengths``: the pixels of each)."""
+    rng = np.random.default_rng(seed)
+    g, s = fmt.cfg.gouraud, fmt.cfg.specular
+    z_lo, z_hi = s.z_format.lo, s.z_format.hi
+    words = []
+    for i in range(count):
+        n_px = int(lengths[i]) if lengths is not None else int(rng.integers(1, 24))
+        row = {
+            "x": int(rng.integers(0, (1 << fmt.x_width) - n_px + 1)),
+            "y": int(rng.integers(0, 1 << fmt.y_width)),
+            "l": n_px - 1,
+            "spec": int(rng.integers(0, 2)),
+            "diff": int(rng.integers(0, 2)),
+            "c": int(rng.integers(0, 1 << s.c_width)),
+            "dz": int(rng.integers(z_lo, z_hi + 1) >> int(rng.integers(0, 16))),
+            "z0": int(rng.integers(z_lo, z_hi + 1)),
+            "n": int(rng.integers(0, 1 << core.N_WIDTH)),  # 0 and 1001.. are refused
+            "diff_dz": int(rng.integers(z_lo, z_hi + 1) >> int(rng.integers(0, 16))),
+            "diff_z0": int(rng.integers(z_lo, z_hi + 1)),
+        }
+        for c in range(core.CHANNELS):
+            row[f"i_start{c}"] = int(rng.integers(0, 1 << g.i_width))
+            row[f"i_end{c}"] = int(rng.integers(0, 1 << g.i_width))
+            row[f"diff_c{c}"] = int(rng.integers(0, 1 << s.c_width))
+        words.append(core.pack(fmt.layout(), row))
+    return words
+
+
+# ------------------------------------------------------------------------------ the formats
+
+
+def test_span_beat_round_trips_every_field_at_both_ends():
+    fmt = core.SpanFormat(DEFAULT)
+    layout = fmt.layout()
+    assert fmt.width % 8 == 0 and fmt.bits <= fmt.width < fmt.bits + 8
+    assert layout[-1][1] + layout[-1][2] == fmt.bits
+    for end in (0, 1):
+        row = {}
+        for name, _, w in layout:
+            lo, hi = (
+                (-(1 << (w - 1)), (1 << (w - 1)) - 1) if name in core.SIGNED else (0, (1 << w) - 1)
+            )
+            row[name] = hi if end else lo
+        assert core.unpack(layout, core.pack(layout, row)) == row
+
+
+def test_a_field_out_of_range_is_refused_by_name():
+    layout = core.SpanFormat(DEFAULT).layout()
+    with pytest.raises(
+        ValueError, match=r"span field n = 1024 is out of range: legal range is 0\.\.1023"
+    ):
+        core.pack(layout, {"n": 1024})
+    with pytest.raises(ValueError, match=r"span field dz = .* signed"):
+        core.pack(layout, {"dz": 1 << 40})
+
+
+def test_diffuse_jobs_must_share_their_angle():
+    from model.render.pipeline import UnitJobs
+
+    one = np.zeros(1, dtype=np.int64)
+    jobs = UnitJobs(
+        intervals=one, i_start=np.zeros((1, 3), np.int64), i_end=np.zeros((1, 3), np.int64),
+        spec_span=one[:0], spec_c=one[:0], spec_dz=one[:0], spec_z0=one[:0], spec_n=one[:0],
+        diff_span=np.zeros(3, np.int64), diff_channel=np.arange(3),
+        diff_c=np.ones(3, np.int64), diff_dz=np.array([5, 5, 6]), diff_z0=np.zeros(3, np.int64),
+    )  # fmt: skip
+    with pytest.raises(ValueError, match="span 0: the diffuse jobs' dz, z0 differ between"):
+        core.span_beats(jobs, one, one, core.SpanFormat(DEFAULT))
+
+
+def test_bad_formats_and_timing_are_refused():
+    with pytest.raises(ValueError, match=r"x_width = 17 is out of range: legal range is 1\.\.16"):
+        core.SpanFormat(DEFAULT, x_width=17)
+    with pytest.raises(ValueError, match="pixels = 0 is out of range"):
+        core.core_cycles(0)
+    kept = PipelineConfig(
+        gouraud=gouraud.GouraudConfig(len_width=specular.KEPT.len_width), specular=specular.KEPT
+    )
+    with pytest.raises(ValueError, match="n_first = 17 is out of range for diffuse spans"):
+        core.core_parameters(kept, diffuse_path=True)
+
+
+def test_the_core_model_gives_the_pipeline_image_on_a_scene():
+    """core_pixels (the units' per-line calls on the unpacked beats) = pipeline.unit_shader's
+    image (the fused kernels), every method: the packer loses nothing."""
+    from model.render import pipeline, raster, scenefile, shade
+
+    frame = raster.rasterise(scenefile.builtin_scene("torus", 40, 40))
+    for name, cfg in METHODS.items():
+        fmt = core.SpanFormat(cfg)
+        stream = core.frame_stream(frame, cfg, fmt)
+        pixels = core.core_pixels(stream.words, fmt)
+        rgb = np.array([[p["r"], p["g"], p["b"]] for p in pixels], dtype=np.uint8)
+        per, at = {}, 0
+        for obj, n in zip(stream.objects, stream.pixels, strict=True):
+            per[obj] = rgb[at : at + n]
+            at += n
+        got = shade.shade(frame, lambda spans, ctx, per=per: per[ctx.obj]).rgb
+        want = shade.shade(frame, pipeline.unit_shader(cfg)).rgb
+        assert np.array_equal(got, want), name
+
+
+# ------------------------------------------------------------------------------ the RTL
+
+
+@pytest.mark.parametrize("method", ["hybrid", "diffuse"])
+def test_teapot_256_through_the_core_is_the_model_frame_at_one_pixel_per_clock(method, request):
+    r = core_run.cosimulate("teapot", 256, method)
+    assert r.equal
+    assert r.run.cycles == r.model_cycles == core.LATENCY + r.run.pixels
+    assert r.run.px_per_clock >= 0.9
+    from tests.conftest import record_sim
+
+    record = {"unit": "shading_core", "test": method, "jobs": r.run.spans, "errors": 0}
+    record_sim(request, [{**record, "compared": r.run.pixels, "cycles": r.run.cycles}])
+
+
+@pytest.mark.parametrize("scene", ["sphere", "torus", "teapot", "quad"])
+@pytest.mark.parametrize("method", list(METHODS))
+def test_every_scene_and_method_at_64_is_the_model_frame(scene, method):
+    r = core_run.cosimulate(scene, 64, method, tag=f"core_{scene}_{method}")
+    assert r.equal
+    assert r.run.cycles == r.model_cycles
+
+
+def test_random_spans_under_random_idles_and_stalls_are_scoreboarded():
+    """Random fields (invalid n included: tuser), spans of 1 pixel and of the longest length,
+    sums that saturate; random idle cycles on s_axis and random tready on m_axis: every pixel
+    beat equals the model's, none lost or reordered, the AXI4-Stream rules hold."""
+    fmt = core.SpanFormat(DEFAULT)
+    longest = DEFAULT.gouraud.len_max
+    lengths = [1] * 40 + [longest, 2, 1, longest - 1] + [3] * 20
+    words = random_words(fmt, len(lengths), seed=7, lengths=lengths)
+    params = core_run.parameters(DEFAULT)
+    r = core_run.run_words(words, fmt, params, idle_pct=30, stall_pct=40, seed=11, tag="core_rand")
+    assert r.mismatches == []
+    assert r.pixels == sum(lengths) and r.stalls > 0
+    want = core.core_pixels(words, fmt)
+    assert any(p["n_err"] for p in want) and any(255 in (p["r"], p["g"], p["b"]) for p in want)
+
+
+def test_a_broken_core_is_caught_with_the_span_that_shows_it(tmp_path):
+    """A one-line defect in the Gouraud rounding bias: the scoreboard names the pixel and the
+    span beat that reproduces it."""
+    rtl = []
+    for path in source_list("shading_core"):
+        copy = tmp_path / path.name
+        shutil.copy(path, copy)
+        rtl.append(copy)
+    text = (tmp_path / "shading_core.v").read_text()
+    assert text.count("G_BIAS = 1 << (I_FRAC - 1)") == 1
+    (tmp_path / "shading_core.v").write_text(
+        text.replace("G_BIAS = 1 << (I_FRAC - 1)", "G_BIAS = 0")
+    )
+    fmt = core.SpanFormat(DEFAULT)
+    words = random_words(fmt, 30, seed=3)
+    r = core_run.run_words(words, fmt, core_run.parameters(DEFAULT), tag="core_mutant", rtl=rtl)
+    assert r.mismatches and "span beat 0x" in r.mismatches[0]
+
+
+@pytest.mark.parametrize(
+    ("override", "rule"),
+    [
+        ({"FIFO_DEPTH": 24}, "FIFO_DEPTH_must_be_a_power_of_2_from_16_to_4096"),
+        ({"N_FIRST": 2, "DIFFUSE": 1}, "DIFFUSE_needs_N_FIRST_1"),
+        ({"K_WIDTH": 9}, "K_WIDTH_must_reach_the_longest_span_s_intervals"),
+    ],
+)
+def test_a_bad_parameter_stops_elaboration_naming_the_rule(override, rule):
+    params = {**core_run.parameters(DEFAULT), **override}
+    with pytest.raises(RuntimeError, match=rule):
+        core_run.build(params, "icarus")
+
+
+def _doc_table(heading: str) -> list[tuple[str, str, int]]:
+    """(field, bits, width) rows of the table under ``## heading`` in docs/core.md."""
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "core.md").read_text()
+    section = text.split(f"## {heading}\n", 1)[1].split("\n## ", 1)[0]
+    rows = []
+    for line in section.splitlines():
+        cells = [c.strip() for c in line.strip().strip("|").split("|")]
+        if len(cells) >= 3 and cells[2].isdigit():
+            rows.append((cells[0], cells[1], int(cells[2])))
+    return rows
+
+
+def test_the_data_sheet_gives_every_field_bit_by_bit_as_the_packer_packs_it():
+    fmt = core.SpanFormat(METHODS["hybrid"])
+    for heading, layout in (
+        ("Span beat", fmt.layout()),
+        ("Pixel beat", core.PixelFormat().layout()),
+    ):
+        want = [(name, f"{lo + w - 1}:{lo}", w) for name, lo, w in layout]
+        assert _doc_table(heading) == want, heading
