@@ -119,9 +119,10 @@ end
 // The image (model.rom.format_image) holds the ROM_DEPTH data words, then 7 check fields, each
 // a 32-bit value in ROM_CHUNKS words of R_WIDTH bits, low bits first: magic "DIVR", depth,
 // width, K_WIDTH, RECIP_BITS, the checksum of the data words (FNV-1a over 32-bit pieces, low
-// piece first) and the end mark "END!".  At time 0 the whole image is read; every word must be
-// defined (Icarus leaves X for a missing file, a short file or a non-hex word) and every field
-// must be this instance's; then the data words are copied into the ROM.  A bad image prints
+// piece first) and the end mark "END!".  At time 0 the whole image is read (rom_read_word);
+// every word must be there (not in a missing file, past the end of a short one or from a non-hex
+// word on) and defined (no x digit), no word may follow them and every field must be this
+// instance's; then the data words are copied into the ROM.  A bad image prints
 // what was expected and what was found and ends the run with a non-zero exit status: $fatal
 // under Icarus (it accepts it with -g2005 and vvp exits with 1), $stop under other simulators
 // (Verilator exits with an error; $fatal is SystemVerilog, which Verilator's 1364-2005 mode
@@ -131,6 +132,35 @@ localparam ROM_FIELDS = 7;
 localparam ROM_WORDS = ROM_DEPTH + ROM_FIELDS * ROM_CHUNKS;
 
 reg [R_WIDTH-1:0] recip_image [0:ROM_WORDS-1];
+
+localparam WORD_WIDTH = R_WIDTH;
+// The next word of a $readmemh image (model.rom.format_image: a hex word or a // comment a
+// line) from file fd: blank space and // comments skipped; got = 1 with the word, 0 at the end
+// of the file or at a word that is not hex (where reading stops: the words from there on are
+// missing).  The image is read word by word, not by $readmemh, so a file longer than this
+// image is reported like any other bad image: Verilator's $readmemh aborts on a word past the
+// end of its array, before any check could name the field.  (Verilator 5.006 counts fd unused.)
+// verilator lint_off UNUSEDSIGNAL
+task rom_read_word(input integer fd, output reg [WORD_WIDTH-1:0] word, output integer got);
+    integer c;
+    begin
+        got = -1;
+        word = {WORD_WIDTH{1'b0}};
+        while (got < 0) begin
+            c = $fgetc(fd);
+            if (c == -1) begin
+                got = 0;
+            end else if (c == "/") begin
+                while (c != -1 && c != 10) c = $fgetc(fd);
+            end else if (c != " " && c != 9 && c != 10 && c != 13) begin
+                c = $ungetc(c, fd);
+                got = ($fscanf(fd, "%h", word) == 1) ? 1 : 0;
+            end
+        end
+    end
+endtask
+// verilator lint_on UNUSEDSIGNAL
+
 
 // Field f as this instance expects it (the checksum, field 5, is computed from the data)
 function [31:0] rom_expected(input integer f);
@@ -162,6 +192,10 @@ endfunction
 
 integer              chk_i;
 integer              chk_p;
+integer              chk_fd;
+integer              chk_got;
+integer              chk_n;
+reg [R_WIDTH-1:0]    chk_read;
 reg                  chk_bad;
 reg [R_WIDTH+31:0]   chk_word;
 reg [R_WIDTH+31:0]   chk_found;
@@ -169,10 +203,23 @@ reg [R_WIDTH+31:0]   chk_want;
 reg [31:0]           chk_sum;
 
 initial begin
-    $readmemh(ROM_FILE, recip_image);
+    // chk_n: the words the file holds (its first ROM_WORDS go into the image)
+    chk_n = 0;
+    chk_fd = $fopen(ROM_FILE, "r");
+    if (chk_fd != 0) begin
+        chk_got = 1;
+        while (chk_got == 1) begin
+            rom_read_word(chk_fd, chk_read, chk_got);
+            if (chk_got == 1) begin
+                if (chk_n < ROM_WORDS) recip_image[chk_n] = chk_read;
+                chk_n = chk_n + 1;
+            end
+        end
+        $fclose(chk_fd);
+    end
     chk_bad = 1'b0;
     for (chk_i = 0; chk_i < ROM_WORDS; chk_i = chk_i + 1) begin
-        if (!chk_bad && ^recip_image[chk_i] === 1'bx) begin
+        if (!chk_bad && (chk_i >= chk_n || ^recip_image[chk_i] === 1'bx)) begin
             $write("%m: ROM_FILE \"%0s\": word %0d is undefined: ", ROM_FILE, chk_i);
             $write("the file is missing or unreadable, has fewer than the %0d words ", ROM_WORDS);
             $write("of this image (%0d data + %0d check words of %0d bits) ",
@@ -205,6 +252,12 @@ initial begin
             $display("regenerate it with make roms");
             chk_bad = 1'b1;
         end
+    end
+    if (!chk_bad && chk_n > ROM_WORDS) begin
+        $write("%m: ROM_FILE \"%0s\": the file has %0d words, more than the %0d ", ROM_FILE,
+               chk_n, ROM_WORDS);
+        $display("of this image; regenerate it with make roms");
+        chk_bad = 1'b1;
     end
     if (chk_bad) begin
 `ifdef __ICARUS__

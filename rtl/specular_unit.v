@@ -466,9 +466,10 @@ end
 // ROM 12), depth, width, the parameters the contents depend on (ROM 9: A_INT_BITS,
 // A_FRAC_BITS, ALPHA as 0 = taylor / 1 = inflection, NUM_TABLES, N_HI0..N_HI3, K0..K3; ROM 12:
 // ROM_ADDR_BITS, ROM_DATA_BITS, NUM_TABLES, K0..K3), the checksum of the data words (FNV-1a
-// over 32-bit pieces) and the end mark "END!".  At time 0 both images are read; every word
-// must be defined (Icarus leaves X for a missing file, a short file or a non-hex word) and
-// every field must be this instance's, and ROM 9's first and last words those of N_FIRST and
+// over 32-bit pieces) and the end mark "END!".  At time 0 both images are read
+// (rom_read_word); every word must be there (not in a missing file, past the end of a short one
+// or from a non-hex word on) and defined (no x digit), no word may follow them, every field must
+// be this instance's, and ROM 9's first and last words those of N_FIRST and
 // N_LAST (kept_word: the header has no field for the kept range, its depth only); then the
 // data words are copied into the ROMs.  A bad image prints what was expected and what was
 // found and ends the run with a non-zero exit status: $fatal under Icarus (it accepts it with -g2005 and vvp exits with 1), $stop under
@@ -484,6 +485,35 @@ localparam IMG_WIDTH = (A_WIDTH > ROM_DATA_BITS) ? A_WIDTH : ROM_DATA_BITS;
 
 reg [A_WIDTH-1:0]       a_image [0:A_WORDS-1];
 reg [ROM_DATA_BITS-1:0] cos_image [0:COS_WORDS-1];
+
+localparam WORD_WIDTH = IMG_WIDTH;
+// The next word of a $readmemh image (model.rom.format_image: a hex word or a // comment a
+// line) from file fd: blank space and // comments skipped; got = 1 with the word, 0 at the end
+// of the file or at a word that is not hex (where reading stops: the words from there on are
+// missing).  The image is read word by word, not by $readmemh, so a file longer than this
+// image is reported like any other bad image: Verilator's $readmemh aborts on a word past the
+// end of its array, before any check could name the field.  (Verilator 5.006 counts fd unused.)
+// verilator lint_off UNUSEDSIGNAL
+task rom_read_word(input integer fd, output reg [WORD_WIDTH-1:0] word, output integer got);
+    integer c;
+    begin
+        got = -1;
+        word = {WORD_WIDTH{1'b0}};
+        while (got < 0) begin
+            c = $fgetc(fd);
+            if (c == -1) begin
+                got = 0;
+            end else if (c == "/") begin
+                while (c != -1 && c != 10) c = $fgetc(fd);
+            end else if (c != " " && c != 9 && c != 10 && c != 13) begin
+                c = $ungetc(c, fd);
+                got = ($fscanf(fd, "%h", word) == 1) ? 1 : 0;
+            end
+        end
+    end
+endtask
+// verilator lint_on UNUSEDSIGNAL
+
 
 // Word addr of image which (0 = ROM 9, 1 = ROM 12), zero-extended (addr is an integer: its
 // high bits are not needed to address the images)
@@ -588,14 +618,45 @@ integer              chk_depth;
 integer              chk_width;
 integer              chk_chunks;
 integer              chk_fields;
+integer              chk_fd;
+integer              chk_got;
+integer              chk_n_a;
+integer              chk_n_cos;
+reg [IMG_WIDTH-1:0]  chk_read;
 reg [IMG_WIDTH+31:0] chk_word;
 reg [IMG_WIDTH+31:0] chk_found;
 reg [IMG_WIDTH+31:0] chk_want;
 reg [31:0]           chk_sum;
 
 initial begin
-    $readmemh(A_ROM_FILE, a_image);
-    $readmemh(COS_ROM_FILE, cos_image);
+    // chk_n_a, chk_n_cos: the words each file holds (the first A_WORDS, COS_WORDS go into the
+    // images)
+    chk_n_a = 0;
+    chk_fd = $fopen(A_ROM_FILE, "r");
+    if (chk_fd != 0) begin
+        chk_got = 1;
+        while (chk_got == 1) begin
+            rom_read_word(chk_fd, chk_read, chk_got);
+            if (chk_got == 1) begin
+                if (chk_n_a < A_WORDS) a_image[chk_n_a] = chk_read[A_WIDTH-1:0];
+                chk_n_a = chk_n_a + 1;
+            end
+        end
+        $fclose(chk_fd);
+    end
+    chk_n_cos = 0;
+    chk_fd = $fopen(COS_ROM_FILE, "r");
+    if (chk_fd != 0) begin
+        chk_got = 1;
+        while (chk_got == 1) begin
+            rom_read_word(chk_fd, chk_read, chk_got);
+            if (chk_got == 1) begin
+                if (chk_n_cos < COS_WORDS) cos_image[chk_n_cos] = chk_read[ROM_DATA_BITS-1:0];
+                chk_n_cos = chk_n_cos + 1;
+            end
+        end
+        $fclose(chk_fd);
+    end
     chk_bad = 1'b0;
     for (chk_which = 0; chk_which < 2; chk_which = chk_which + 1) begin
         chk_depth = (chk_which == 0) ? A_DEPTH : COS_DEPTH;
@@ -604,7 +665,8 @@ initial begin
         chk_fields = (chk_which == 0) ? A_FIELDS : COS_FIELDS;
         // Every word defined
         for (chk_i = 0; chk_i < chk_depth + chk_fields * chk_chunks; chk_i = chk_i + 1) begin
-            if (!chk_bad && ^image_word(chk_which, chk_i) === 1'bx) begin
+            if (!chk_bad && (chk_i >= ((chk_which == 0) ? chk_n_a : chk_n_cos)
+                             || ^image_word(chk_which, chk_i) === 1'bx)) begin
                 if (chk_which == 0) begin
                     $write("%m: A_ROM_FILE \"%0s\"", A_ROM_FILE);
                 end else begin
@@ -666,6 +728,18 @@ initial begin
                      N_FIRST, N_LAST);
             chk_bad = 1'b1;
         end
+    end
+    if (!chk_bad && chk_n_a > A_WORDS) begin
+        $write("%m: A_ROM_FILE \"%0s\": the file has %0d words, more than the %0d ", A_ROM_FILE,
+               chk_n_a, A_WORDS);
+        $display("of this image; regenerate it with make roms");
+        chk_bad = 1'b1;
+    end
+    if (!chk_bad && chk_n_cos > COS_WORDS) begin
+        $write("%m: COS_ROM_FILE \"%0s\": the file has %0d words, more than the %0d ",
+               COS_ROM_FILE, chk_n_cos, COS_WORDS);
+        $display("of this image; regenerate it with make roms");
+        chk_bad = 1'b1;
     end
     if (chk_bad) begin
 `ifdef __ICARUS__
