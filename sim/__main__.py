@@ -14,6 +14,12 @@ Commands:
           in cycles per second (``make bench`` runs it after ``python -m model bench``, the
           software speed)
 
+          The shading core: the scene's span stream through the core's RTL
+          (``sim.core_run``, the stream bench under the same simulator), the frame compared with
+          the model's byte for byte, and its measured pixels per clock, with Mpx/s at the core's
+          placed Fmax (docs/synth.json, ``make synth``), for methods (c) and (h) on the scene
+          and for every built-in scene and method at the same size (``--no-core`` skips it)
+
 Argument checks are this module's own (``sim`` sits below ``model.cli``): a bad value is refused
 in one line naming the argument, its value and what is allowed, exit status 2, before any work.
 """
@@ -150,6 +156,11 @@ def build_parser() -> argparse.ArgumentParser:
         help="the vector mode only, no scene co-simulation",
     )
     p.add_argument(
+        "--no-core",
+        action="store_true",
+        help="skip the shading core's runs (its stream bench over every built-in scene and method)",
+    )
+    p.add_argument(
         "--vector-cycles",
         type=cycles_type,
         default=VECTOR_CYCLES,
@@ -241,6 +252,72 @@ def bench(source: scenefile.SceneSource, size: int, config=None) -> int:
             f"{TEAPOT_TARGET_S} s: {took:.1f} s under {sim}, builds {builds} ({met})"
         )
     return 0 if same else 1
+
+
+CORE_PART = "ecp5-25f"
+"""The part whose placed Fmax turns the core's pixels per clock into Mpx/s."""
+CORE_TARGET_PX_PER_CLOCK = 0.9
+
+
+def core_fmax(config: str, part: str = CORE_PART) -> float | None:
+    """The placed Fmax (MHz) of the shading core at ``config`` on ``part`` in docs/synth.json
+    (``make synth``), None if it has not been placed."""
+    import json
+
+    path = Path(__file__).resolve().parents[1] / "docs" / "synth.json"
+    if not path.is_file():
+        return None
+    for row in json.loads(path.read_text()).get("results", []):
+        if (
+            row.get("unit") == "shading_core"
+            and row.get("config") == config
+            and (row.get("part") == part)
+        ):
+            return row.get("fmax_mhz")
+    return None
+
+
+def core_bench(source: scenefile.SceneSource, size: int, sim: str, config=None) -> int:
+    """The scene's span stream through the core's RTL for (c) and (h) (or ``config``), then
+    every built-in scene and method at ``size``: frame equal, pixels per clock, Mpx/s."""
+    from model.render import pipeline
+    from sim import core_run
+
+    print(f"== the shading core (rtl/shading_core.f) under {sim}, output always ready ==")
+    runs = [(source.label, source.scene(size, size), name) for name in ("hybrid", "diffuse")]
+    if config is not None:
+        runs = [(source.label, source.scene(size, size), config)]
+    if config is None:
+        runs += [
+            (name, name, method)
+            for name in scenefile.SCENE_NAMES
+            for method in pipeline.METHODS
+            if (name, method) not in ((source.label, "hybrid"), (source.label, "diffuse"))
+        ]
+    status = 0
+    print(f"  {'scene':<10} {'method':<11} {'pixels':>8} {'clocks':>8} {'model':>8} "
+          f"{'px/clk':>7} {'Mpx/s':>7}  frame")  # fmt: skip
+    for label, target, method in runs:
+        try:
+            r = core_run.cosimulate(target, size, method, sim=sim, tag="core_bench")
+        except AssertionError as exc:
+            print(f"FAIL: {label} {method}: {exc}")
+            return 1
+        mname = method if isinstance(method, str) else "config"
+        fmax = core_fmax("diffuse" if mname in ("diffuse",) else "hybrid")
+        mpx = f"{r.run.px_per_clock * fmax:7.1f}" if fmax else "     --"
+        same = "equal" if r.equal and r.run.cycles == r.model_cycles else "DIFFERS"
+        status |= 0 if same == "equal" else 1
+        print(f"  {label:<10} {mname:<11} {r.run.pixels:>8} {r.run.cycles:>8} "
+              f"{r.model_cycles:>8} {r.run.px_per_clock:>7.4f} {mpx}  {same}")  # fmt: skip
+        if label == source.label and mname in ("hybrid", "diffuse"):
+            met = "met" if r.run.px_per_clock >= CORE_TARGET_PX_PER_CLOCK else "not met"
+            got = f"{r.run.px_per_clock:.4f}"
+            print(f"  target: {label} {mname} at {size} x {size}, at least "
+                  f"{CORE_TARGET_PX_PER_CLOCK} px/clk: {got} ({met})")  # fmt: skip
+    print(f"  Mpx/s = px/clk x the core's placed Fmax on the {CORE_PART} (docs/synth.json; -- "
+          "where make synth has not placed it)")  # fmt: skip
+    return status
 
 
 def _load() -> str:
@@ -357,6 +434,11 @@ def main(argv: list[str] | None = None) -> int:
             args.command_parser.error(f"argument --mesh: {' '.join(str(exc).split())}")
     # one command today; the subcommand keeps room for more
     status = 0 if args.vectors_only else bench(source, args.size, args.config)
+    if not args.vectors_only and not args.no_core:
+        from sim import runner
+
+        sim, _ = scene_simulator(runner.simulator)
+        status = max(status, core_bench(source, args.size, sim, args.config))
     if not args.no_vectors:
         status = max(status, vector_bench(args.vector_cycles))
     return status
