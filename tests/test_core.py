@@ -133,6 +133,17 @@ def test_teapot_256_through_the_core_is_the_model_frame_at_one_pixel_per_clock(m
     assert r.equal
     assert r.run.cycles == r.model_cycles == core.LATENCY + r.run.pixels
     assert r.run.px_per_clock >= 0.9
+    # the figures README.md and docs/core.md give are these
+    import re
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    for page in ("README.md", "docs/core.md"):
+        text = " ".join((root / page).read_text().split())
+        m = re.search(r"([\d ]+) pixels in ([\d ]+) clocks[ :(]+(\d\.\d+) p", text)
+        assert m, page
+        said = (int(m[1].replace(" ", "")), int(m[2].replace(" ", "")), float(m[3]))
+        assert said == (r.run.pixels, r.run.cycles, round(r.run.px_per_clock, 4)), page
     from tests.conftest import record_sim
 
     record = {"unit": "shading_core", "test": method, "jobs": r.run.spans, "errors": 0}
@@ -234,3 +245,35 @@ def test_sim_bench_prints_every_scene_and_method_through_the_core(capsys):
     for r in rows:
         assert r[3] == r[4] and float(r[5]) == pytest.approx(int(r[2]) / int(r[3]), abs=1e-4)
     assert out.count("px/clk: ") == 2 and "(not met)" not in out
+
+
+def test_the_teapot_s_fitted_configuration_through_the_core_is_the_model_frame(tmp_path):
+    """The configuration ``shading fit`` chose for the teapot (docs/fit_teapot.json): its core
+    (narrow widths, one cos^16 table, the kept n = 40 only) gives the model's frame."""
+    import json
+    from pathlib import Path
+
+    import tomli_w
+
+    from model.render import configfile
+
+    record = json.loads((Path(__file__).resolve().parents[1] / "docs/fit_teapot.json").read_text())
+    path = tmp_path / "config.toml"
+    path.write_bytes(tomli_w.dumps(record["config"]).encode())
+    cfg = configfile.read_config(path)
+    r = core_run.cosimulate("teapot", 256, cfg, tag="core_fitted")
+    assert r.equal and r.run.cycles == r.model_cycles
+    assert r.run.px_per_clock >= 0.9
+
+
+def test_a_mesh_file_through_the_core_is_the_model_frame(tmp_path):
+    import trimesh
+
+    from model.render import scenefile
+
+    path = tmp_path / "ball.obj"
+    trimesh.creation.icosphere(subdivisions=2).export(path)
+    target = scenefile.mesh_source(str(path), "auto").scene(48, 48)
+    for method in ("hybrid", "diffuse"):
+        r = core_run.cosimulate(target, 48, method, tag=f"core_mesh_{method}")
+        assert r.equal and r.run.cycles == r.model_cycles, method
