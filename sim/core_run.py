@@ -8,6 +8,7 @@ model gives and the span beat that reproduces it."""
 from __future__ import annotations
 
 import hashlib
+import os
 import re
 import shutil
 import subprocess
@@ -92,13 +93,22 @@ def build(
         command = [str(exe)]
     if (folder / "built.ok").exists() and exe.exists():
         return command, folder, 0.0
-    shutil.rmtree(folder, ignore_errors=True)
-    folder.mkdir(parents=True)
+    # built in a folder of this process's own, then renamed: parallel runs never share one
+    work = folder.with_name(f"{folder.name}.{os.getpid()}.tmp")
+    shutil.rmtree(work, ignore_errors=True)
+    work.mkdir(parents=True)
+    cmd = [str(work / Path(a).relative_to(folder)) if a.startswith(str(folder)) else a
+           for a in cmd]  # fmt: skip
     t0 = time.monotonic()
-    made = subprocess.run(cmd, capture_output=True, text=True, cwd=folder, timeout=3600)
-    if made.returncode != 0 or not exe.exists():
+    made = subprocess.run(cmd, capture_output=True, text=True, cwd=work, timeout=3600)
+    if made.returncode != 0:
+        shutil.rmtree(work, ignore_errors=True)
         raise RuntimeError(f"{sim} could not build the core's bench:\n{made.stdout}{made.stderr}")
-    (folder / "built.ok").write_text(" ".join(cmd) + "\n")
+    (work / "built.ok").write_text(" ".join(cmd) + "\n")
+    try:
+        work.rename(folder)
+    except OSError:  # another process published the same build first: use that one
+        shutil.rmtree(work, ignore_errors=True)
     return command, folder, time.monotonic() - t0
 
 
@@ -119,7 +129,7 @@ def run_words(
         raise ValueError("words is empty: the core's bench needs at least one span beat")
     want = core.core_pixels(words, fmt)
     command, folder, build_s = build(params, sim, rtl)
-    work = SIM_BUILD / tag
+    work = SIM_BUILD / f"{tag}_{os.getpid()}"  # one folder per process: xdist runs side by side
     work.mkdir(parents=True, exist_ok=True)
     span_file, out_file = work / "spans.hex", work / "pixels.hex"
     digits = -(-fmt.width // 4)
