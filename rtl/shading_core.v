@@ -19,10 +19,10 @@
  * min(gouraud + diffuse + specular, 255).  Every pixel equals model.render.core.core_pixels.
  *
  * Structure: the input register and the ROM reads (stage A: ROM 9's a, the reciprocal of l,
- * decoder 10), the three products (stage B), the span register (the issuer: Gouraud, angle
- * and diffuse-angle accumulators, the pixel counter), the pixel pipeline (specular stages
- * S1..S8 beside the delayed Gouraud values), the sum into the output FIFO.  A span beat is
- * taken while stage B is empty or moves into the span register; the span register takes the
+ * decoder 10), the three products (stages B to D), the span register (the issuer: Gouraud,
+ * angle and diffuse-angle accumulators, the pixel counter), the pixel pipeline (specular
+ * stages S1..S8 beside the delayed Gouraud values), the sum into the output FIFO.  A span beat
+ * is taken while stage D is empty or moves into the span register; the span register takes the
  * next span in the clock that issues the last pixel of the current one, so spans follow each
  * other with no gap.  The issuer issues a pixel only while the pixels in flight and in the
  * FIFO leave room in it (a credit count), so output backpressure stalls the issuer and never
@@ -398,7 +398,7 @@ reg [AW-1:0]           ab_reg;
 reg [CH*C_WIDTH-1:0]   dcb_reg;
 reg [Z_WIDTH-1:0]      ddzb_reg;
 reg [Z_WIDTH-1:0]      dz0b_reg;
-wire [CH*DI_WIDTH-1:0] di_b;
+wire [CH*DI_WIDTH-1:0] di_b;  // the increments of the span in stage D
 
 genvar g;
 generate
@@ -416,6 +416,39 @@ generate
         );
     end
 endgenerate
+
+// Stages C and D: stage B's fields wait while the products finish (shading_increment's
+// pipeline: di belongs to the span in stage D)
+localparam FB_WIDTH = X_WIDTH + Y_WIDTH + LEN_WIDTH + 2 + CH * I_WIDTH + C_WIDTH + 2 * Z_WIDTH
+                    + TSEL_BITS + 1 + AW + CH * C_WIDTH + 2 * Z_WIDTH;
+reg  [FB_WIDTH-1:0] fc_reg;
+reg  [FB_WIDTH-1:0] fd_reg;
+reg                 vc_reg;
+reg                 vd_reg;
+wire [X_WIDTH-1:0]     xd;
+wire [Y_WIDTH-1:0]     yd;
+wire [LEN_WIDTH-1:0]   ld;
+wire                   specd;
+wire                   diffd;
+wire [CH*I_WIDTH-1:0]  id;
+wire [C_WIDTH-1:0]     cd;
+wire [Z_WIDTH-1:0]     dzd;
+wire [Z_WIDTH-1:0]     z0d;
+wire [TSEL_BITS-1:0]   tseld;
+wire                   nerrd;
+wire [AW-1:0]          ad;
+wire [CH*C_WIDTH-1:0]  dcd;
+wire [Z_WIDTH-1:0]     ddzd;
+wire [Z_WIDTH-1:0]     dz0d;
+assign {xd, yd, ld, specd, diffd, id, cd, dzd, z0d, tseld, nerrd, ad, dcd, ddzd, dz0d} = fd_reg;
+
+always @(posedge clk) begin
+    if (ce) begin
+        fc_reg <= {xb_reg, yb_reg, lb_reg, specb_reg, diffb_reg, ib_reg, cb_reg, dzb_reg, z0b_reg,
+                   tselb_reg, nerrb_reg, ab_reg, dcb_reg, ddzb_reg, dz0b_reg};
+        fd_reg <= fc_reg;
+    end
+end
 
 always @(posedge clk) begin
     if (ce) begin
@@ -465,34 +498,34 @@ reg [OCC_BITS-1:0]     occ_reg;
 wire out_fire = m_axis_tvalid && m_axis_tready;
 wire issue = act_reg && (occ_reg < OCC_MAX);
 wire last_px = (cnt_reg == {LEN_WIDTH{1'b0}});
-assign take = vb_reg && (!act_reg || (issue && last_px));
-assign ce = !vb_reg || take;
+assign take = vd_reg && (!act_reg || (issue && last_px));
+assign ce = !vd_reg || take;
 
 localparam [G_WIDTH-1:0] G_BIAS = 1 << (I_FRAC - 1);
 integer ci;
 
 always @(posedge clk) begin
     if (take) begin
-        cnt_reg <= lb_reg;
-        x_reg <= xb_reg;
-        y_reg <= yb_reg;
+        cnt_reg <= ld;
+        x_reg <= xd;
+        y_reg <= yd;
         for (ci = 0; ci < CH; ci = ci + 1) begin
             gacc_reg[ci*G_WIDTH +: G_WIDTH] <= {{(G_WIDTH-I_WIDTH){1'b0}},
-                                                ib_reg[ci*I_WIDTH +: I_WIDTH]} + G_BIAS;
-            di_reg[ci*DI_WIDTH +: DI_WIDTH] <= (lb_reg == {LEN_WIDTH{1'b0}}) ? {DI_WIDTH{1'b0}}
+                                                id[ci*I_WIDTH +: I_WIDTH]} + G_BIAS;
+            di_reg[ci*DI_WIDTH +: DI_WIDTH] <= (ld == {LEN_WIDTH{1'b0}}) ? {DI_WIDTH{1'b0}}
                                                : di_b[ci*DI_WIDTH +: DI_WIDTH];
         end
-        zacc_reg <= {{LEN_WIDTH{z0b_reg[Z_WIDTH-1]}}, z0b_reg};
-        dz_reg <= dzb_reg;
-        dacc_reg <= {{LEN_WIDTH{dz0b_reg[Z_WIDTH-1]}}, dz0b_reg};
-        ddz_reg <= ddzb_reg;
-        c_reg <= cb_reg;
-        a_reg <= ab_reg;
-        tsel_reg <= tselb_reg;
-        szero_reg <= !specb_reg || nerrb_reg || SPECULAR == 0;
-        dzero_reg <= !diffb_reg || DIFFUSE == 0;
-        err_reg <= (specb_reg && (nerrb_reg || SPECULAR == 0)) || (diffb_reg && DIFFUSE == 0);
-        dc_reg <= dcb_reg;
+        zacc_reg <= {{LEN_WIDTH{z0d[Z_WIDTH-1]}}, z0d};
+        dz_reg <= dzd;
+        dacc_reg <= {{LEN_WIDTH{dz0d[Z_WIDTH-1]}}, dz0d};
+        ddz_reg <= ddzd;
+        c_reg <= cd;
+        a_reg <= ad;
+        tsel_reg <= tseld;
+        szero_reg <= !specd || nerrd || SPECULAR == 0;
+        dzero_reg <= !diffd || DIFFUSE == 0;
+        err_reg <= (specd && (nerrd || SPECULAR == 0)) || (diffd && DIFFUSE == 0);
+        dc_reg <= dcd;
     end else if (issue) begin
         cnt_reg <= cnt_reg - {{(LEN_WIDTH-1){1'b0}}, 1'b1};
         x_reg <= x_reg + {{(X_WIDTH-1){1'b0}}, 1'b1};
@@ -511,6 +544,8 @@ always @(posedge clk) begin
     if (ce) begin
         va_reg <= s_fire;
         vb_reg <= va_reg;
+        vc_reg <= vb_reg;
+        vd_reg <= vc_reg;
     end
     if (take) begin
         act_reg <= 1'b1;
@@ -521,6 +556,8 @@ always @(posedge clk) begin
     if (!rst_n) begin
         va_reg <= 1'b0;
         vb_reg <= 1'b0;
+        vc_reg <= 1'b0;
+        vd_reg <= 1'b0;
         act_reg <= 1'b0;
         occ_reg <= {OCC_BITS{1'b0}};
     end

@@ -5,9 +5,12 @@
  * the accumulating adder of rtl/divider_shift.v add exactly these partial products, one
  * reciprocal bit per clock), then di = (q + 2^(RECIP_BITS-1)) >>> RECIP_BITS
  * (model.render.pipeline.increment_from_quotient).  Here the partial products are added in
- * one clock, so a span's three divisions take one clock instead of up to RECIP_BITS + 1 each.
+ * a pipeline, so a span's three divisions take one clock each instead of up to RECIP_BITS + 1.
  *
- * Timing: q_reg loads a * r at an edge with ce; di is combinational from q_reg.
+ * Timing (every stage moves at an edge with ce): a and r are registered (r comes from a block
+ * RAM, whose output has no time left for logic), then the two halves of the product a * r_lo
+ * and a * r_hi (each one multiplier), then their sum into q_reg; di is combinational from
+ * q_reg: three stages.
  */
 
 `resetall
@@ -37,11 +40,24 @@ generate
     end
 endgenerate
 
-reg signed [Q_WIDTH-1:0] q_reg;
+// The reciprocal split in two halves: r = r_hi * 2^LO + r_lo
+localparam LO = (RECIP_BITS + 1) / 2;
+localparam HI = RECIP_BITS + 1 - LO;
+
+reg [A_WIDTH-1:0]             a_reg;
+reg [RECIP_BITS:0]            r_reg;
+reg signed [A_WIDTH+LO:0]     lo_reg;
+reg signed [A_WIDTH+HI:0]     hi_reg;
+reg signed [Q_WIDTH-1:0]      q_reg;
 
 always @(posedge clk) begin
     if (ce) begin
-        q_reg <= $signed(a) * $signed({1'b0, r});
+        a_reg <= a;
+        r_reg <= r;
+        lo_reg <= $signed(a_reg) * $signed({1'b0, r_reg[LO-1:0]});
+        hi_reg <= $signed(a_reg) * $signed({1'b0, r_reg[RECIP_BITS:LO]});
+        q_reg <= {{(Q_WIDTH-A_WIDTH-LO-1){lo_reg[A_WIDTH+LO]}}, lo_reg}
+                 + ({{(Q_WIDTH-A_WIDTH-HI-1){hi_reg[A_WIDTH+HI]}}, hi_reg} <<< LO);
     end
 end
 
