@@ -3,7 +3,8 @@
 
 ``synthesise(unit, config, part)`` runs Yosys and nextpnr (the yowasp packages) on one unit
 behind a six-pin wrapper and returns a ``SynthResult`` (``synthesise_design``: the same for a
-design of several modules, such as the top level ``shading fit`` writes); ``parts`` names the
+design of several modules, such as the top level ``shading fit`` writes; ``synthesise_top``:
+a top's ``.f`` source list at a parameter set, such as the shading core); ``parts`` names the
 devices and the Fmax targets, ``params`` the Verilog parameters of a configuration (shared with
 ``sim``), ``parse`` reads the tools' output, ``report`` makes the table and the JSON record.
 Layer 2: imports ``model.units`` only.
@@ -19,6 +20,7 @@ from model.hw.synth import (
     default_runs,
     synthesise,
     synthesise_design,
+    synthesise_top,
 )
 
 __all__ = [
@@ -33,5 +35,6 @@ __all__ = [
     "hdl_parameters",
     "synthesise",
     "synthesise_design",
+    "synthesise_top",
     "unit_parameters",
 ]

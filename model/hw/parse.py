@@ -72,6 +72,30 @@ def stat_modules(stat: str | dict) -> dict[str, dict[str, int]]:
     return out
 
 
+def stat_tree(stat: str | dict, top: str) -> dict[str, int]:
+    """Cell type -> count of every leaf cell under the module ``top`` (its name without a
+    ``$paramod$...`` prefix), each instance of a submodule counted once per instance (the
+    ``stat -json`` of a hierarchy kept: a module's cells name its submodules by type)."""
+    data = json.loads(stat) if isinstance(stat, str) else stat
+    modules = {name: dict(m.get("num_cells_by_type", {})) for name, m in data["modules"].items()}
+    found = [name for name in modules if name.rsplit("\\", 1)[-1] == top]
+    if len(found) != 1:
+        raise ValueError(f"top = {top!r} names {len(found)} modules of the design, not one")
+
+    def below(name: str, seen: tuple[str, ...]) -> dict[str, int]:
+        if name in seen:
+            raise ValueError(f"{name} instantiates itself")
+        out: dict[str, int] = {}
+        for kind, n in modules[name].items():
+            sub = kind if kind in modules else "\\" + kind
+            parts = below(sub, (*seen, name)) if sub in modules else {kind: 1}
+            for leaf, m in parts.items():
+                out[leaf] = out.get(leaf, 0) + n * m
+        return out
+
+    return below(found[0], ())
+
+
 def yosys_version(stat: str | dict) -> str:
     """The version ("Yosys 0.70") from the ``creator`` line of ``stat -json``."""
     data = json.loads(stat) if isinstance(stat, str) else stat

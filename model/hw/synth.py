@@ -1,17 +1,24 @@
 # SPDX-License-Identifier: Apache-2.0
 """``synthesise(unit, config, part)``: Yosys synthesis, nextpnr place and route, the figures.
 
-The unit (its RTL as it is in rtl/, parameters from ``model.hw.params``) goes behind the six-pin
-wrapper of ``model.hw.wrapper`` and through the part's Yosys command with the hierarchy kept, so
-the unit's own LUTs, flip-flops, block RAMs and DSPs are read from its module.  nextpnr then
+The unit (its RTL as its source list ``rtl/<unit>.f`` names it, ``model.hw.sources``; parameters
+from ``model.hw.params``) goes behind the six-pin wrapper of ``model.hw.wrapper`` and through the
+part's Yosys command with the hierarchy kept, so the unit's own LUTs, flip-flops, block RAMs and
+DSPs are read from its module.  ``synthesise_top(top, params, part)`` does the same for a top of
+several modules (the shading core, ``rtl/shading_core.f``) at a parameter set the caller makes
+(this layer cannot import ``model.render``; ``sim.synth_tops`` names the core's sets): its
+figures count every cell of every instance under the top.  nextpnr then
 places and routes the whole design with a fixed seed, aiming at the target clock (or the part's
 default), and its report gives Fmax and the critical path.  A design that needs more than the
 part holds is a result (``fits`` False, ``overflow`` naming the resource), not an exception.
 
 Results are cached in ``out/synth/cache/<key>.json`` (``SYNTH_CACHE`` overrides the folder): the
-key hashes the RTL source, the ROM images' contents, the parameters, the part, the seed, the tool
+key hashes the RTL sources, the ROM images' contents, the parameters, the part, the seed, the tool
 versions, the wrapper's text, the tools' options and ``FLOW``; a hit returns at once.  Each run
 keeps its files (wrapper, script, logs, reports) in ``out/synth/runs/<key>/``.
+
+Size: about 530 lines, one flow for the three kinds of run (a unit, a top's source list, a
+design's files) that share the cache key, the run folder, the tool calls and the parsing.
 """
 
 from __future__ import annotations
@@ -24,6 +31,7 @@ import subprocess
 import tempfile
 import threading
 import time
+from collections.abc import Callable
 from dataclasses import asdict, dataclass, fields
 from importlib import metadata
 from pathlib import Path
@@ -32,6 +40,7 @@ from model.hw import parse, wrapper
 from model.hw.params import unit_parameters
 from model.hw.parts import PARTS, TARGETS, Part
 from model.hw.parts import part as get_part
+from model.hw.sources import source_list
 from model.hw.tools import find_tool
 from model.units import divider, gouraud, rom, specular
 
@@ -174,15 +183,27 @@ def synth_parameters(unit: str, cfg: object, rom_dir: Path | None = None) -> dic
     return params
 
 
+def rtl_sources(top: str) -> dict[str, bytes]:
+    """The files ``rtl/<top>.f`` lists, in order: name (relative to rtl/) -> contents, read once
+    (a file may be edited while the tools run, and the run must be of what it hashed)."""
+    out = {}
+    for path in source_list(top, RTL_DIR):
+        name = path.relative_to(RTL_DIR.resolve()).as_posix()
+        out[name] = path.read_bytes()
+    return out
+
+
 def inputs_of(unit: str, params: dict[str, object], source: bytes | None = None) -> dict[str, str]:
-    """sha256 of what a run is made of: the unit's RTL (``source``, default the file as it is
-    now), its ROM images' contents and its parameters (ROM files by name), as
-    ``docs/synth.json`` records them."""
+    """sha256 of what a run is made of: the top's RTL (``source``, default the files its source
+    list names as they are now, one after the other: a unit's one file), its ROM images'
+    contents and its parameters (ROM files by name), as ``docs/synth.json`` records them."""
     roms = b"".join(
         Path(str(v)).read_bytes() for k, v in sorted(params.items()) if k.endswith("ROM_FILE")
     )
+    if source is None:
+        source = b"".join(rtl_sources(unit).values())
     return {
-        "rtl": _sha(source if source is not None else (RTL_DIR / f"{unit}.v").read_bytes()),
+        "rtl": _sha(source),
         "roms": _sha(roms),
         "params": _sha(json.dumps(_portable(params), sort_keys=True)),
     }
@@ -226,30 +247,78 @@ def synthesise(
     configuration object, or None for the default) on ``part`` (``model.hw.parts.PARTS``)."""
     name, cfg = config_named(unit, config)
     dev = get_part(part)
+    _check_seed(seed)
+    params = synth_parameters(unit, cfg, cache_dir().parent / "roms")
+    return _synthesise(unit, name, params, dev, seed, tree=False)
+
+
+def synthesise_top(
+    top: str,
+    params: dict[str, object],
+    part: str | Part = "hx8k",
+    *,
+    config: str = "default",
+    seed: int = 1,
+) -> SynthResult:
+    """Synthesise, place and route ``top`` (its sources: ``rtl/<top>.f``) with the Verilog
+    parameters ``params`` (ROM images as paths of files that exist) on ``part``, under the
+    configuration name ``config`` (the record's; ``TARGETS`` is looked up by it).  LUT, FF, BRAM
+    and DSP count every cell of every instance under ``top`` (the wrapper's not); cached like
+    ``synthesise``."""
+    if top in UNITS:
+        raise ValueError(f"top {top!r} is a unit: synthesise({top!r}, config, part) runs it")
+    dev = get_part(part)
+    _check_seed(seed)
+    if not isinstance(config, str) or not config:
+        raise ValueError(f"config {config!r} is not allowed: a name such as 'default'")
+    for name, value in params.items():
+        if name.endswith("ROM_FILE") and not Path(str(value)).is_file():
+            raise ValueError(f"{name} = {value!r} does not exist: pass a ROM image on disk")
+    return _synthesise(top, config, dict(params), dev, seed, tree=True)
+
+
+def _check_seed(seed: object) -> None:
     if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
         raise ValueError(f"seed {seed!r} is not allowed: a non-negative integer")
-    cache = cache_dir()
-    params = synth_parameters(unit, cfg, cache.parent / "roms")
-    # read once: the file may be edited while the tools run, and the run must be of what it hashed
-    source = (RTL_DIR / f"{unit}.v").read_bytes()
-    inputs = inputs_of(unit, params, source)
+
+
+def _synthesise(
+    unit: str, name: str, params: dict[str, object], dev: Part, seed: int, *, tree: bool
+) -> SynthResult:
+    sources = rtl_sources(unit)
+    inputs = inputs_of(unit, params, b"".join(sources.values()))
     local = _portable(params)
-    top = wrapper.wrapper_verilog(unit, wrapper.ports(source.decode(), unit, local), local)
+    text = "\n".join(data.decode() for data in sources.values())
+    top = wrapper.wrapper_verilog(unit, wrapper.ports(text, unit, local), local)
     tools = tool_versions()
     target = TARGETS.get((unit, name, dev.key))
     flow = [FLOW, _sha(top), dev.synth, dev.after_synth, dev.pnr, dev.pins]
     key = _sha(json.dumps([unit, name, inputs, dev.key, seed, tools, target, flow]))[:24]
-    entry = cache / f"{key}.json"
+    return _cached(
+        key,
+        tools,
+        tuple(sorted(inputs.items())),
+        lambda folder: _flow(
+            unit, name, params, dev, seed, target, folder, sources, top, tree=tree
+        ),
+    )
+
+
+def _cached(
+    key: str, tools: dict, inputs: tuple, run: Callable[[Path], SynthResult]
+) -> SynthResult:
+    """The cache entry ``key``, or ``run`` in its run folder, completed and stored."""
+    entry = cache_dir() / f"{key}.json"
     if entry.is_file():
         return SynthResult.from_json(json.loads(entry.read_text()))
     start = time.monotonic()
-    folder = cache.parent / "runs" / key
+    folder = cache_dir().parent / "runs" / key
     folder.mkdir(parents=True, exist_ok=True)
-    result = _flow(unit, name, params, dev, seed, target, folder, {f"{unit}.v": source}, top)
+    result = run(folder)
     result = SynthResult(
         **{
             **asdict(result),
-            "inputs": tuple(sorted(inputs.items())),
+            "inputs": inputs,
             "key": key,
             "seconds": round(time.monotonic() - start, 1),
             "tools": tuple(sorted({**tools, **dict(result.tools)}.items())),
@@ -267,32 +336,21 @@ def synthesise_design(
     behind the six-pin wrapper.  LUT, FF, BRAM and DSP count every cell under ``top``; cached
     like ``synthesise`` (the key hashes every file)."""
     dev = get_part(part)
-    if not isinstance(seed, int) or isinstance(seed, bool) or seed < 0:
-        raise ValueError(f"seed {seed!r} is not allowed: a non-negative integer")
+    _check_seed(seed)
     text = "\n".join(d.decode() for f, d in sorted(files.items()) if f.endswith(".v"))
     wrapped = wrapper.wrapper_verilog(top, wrapper.ports(text, top, {}), {})
     tools = tool_versions()
     inputs = {f: _sha(d) for f, d in sorted(files.items())}
     flow = [FLOW, _sha(wrapped), dev.synth, dev.after_synth, dev.pnr, dev.pins]
     key = _sha(json.dumps([top, inputs, dev.key, seed, tools, flow]))[:24]
-    entry = cache_dir() / f"{key}.json"
-    if entry.is_file():
-        return SynthResult.from_json(json.loads(entry.read_text()))
-    start = time.monotonic()
-    folder = cache_dir().parent / "runs" / key
-    folder.mkdir(parents=True, exist_ok=True)
-    result = _flow(top, "design", {}, dev, seed, None, folder, files, wrapped, below=True)
-    result = SynthResult(
-        **{
-            **asdict(result),
-            "inputs": tuple((f, h) for f, h in inputs.items()),
-            "key": key,
-            "seconds": round(time.monotonic() - start, 1),
-            "tools": tuple(sorted({**tools, **dict(result.tools)}.items())),
-        }
+    return _cached(
+        key,
+        tools,
+        tuple((f, h) for f, h in inputs.items()),
+        lambda folder: _flow(
+            top, "design", {}, dev, seed, None, folder, files, wrapped, below=True
+        ),
     )
-    _store(entry, result)
-    return result
 
 
 def _store(entry: Path, result: SynthResult) -> None:
@@ -302,8 +360,13 @@ def _store(entry: Path, result: SynthResult) -> None:
     tmp.replace(entry)
 
 
-def run_inputs(unit: str, config: object = None) -> dict[str, str]:
-    """The ``inputs`` hashes a run of ``unit`` at ``config`` would record now."""
+def run_inputs(
+    unit: str, config: object = None, params: dict[str, object] | None = None
+) -> dict[str, str]:
+    """The ``inputs`` hashes a run of ``unit`` at ``config`` would record now (a top of
+    ``synthesise_top``: at ``params``)."""
+    if params is not None:
+        return inputs_of(unit, params)
     _, cfg = config_named(unit, config)
     with tempfile.TemporaryDirectory() as tmp:  # a generated ROM image is hashed, then dropped
         return inputs_of(unit, synth_parameters(unit, cfg, Path(tmp)))
@@ -326,10 +389,12 @@ def _flow(
     top_text: str,
     *,
     below: bool = False,
+    tree: bool = False,
 ) -> SynthResult:
     """One run: ``sources`` (file name -> bytes: the RTL, and ROM images the parameters do not
     name) and the wrapper ``top_text`` through Yosys and nextpnr in ``run_dir``.  The cells
-    counted are ``unit``'s own, or with ``below`` every cell under the wrapper."""
+    counted are ``unit``'s own, with ``below`` every module's under the wrapper once, with
+    ``tree`` every instance's under ``unit``."""
     # The run folder gets its own copy of the RTL and the ROM images and the tools see relative
     # names only: the WebAssembly tools cannot open every absolute path (e.g. under /tmp).
     for file_name, data in sources.items():
@@ -365,6 +430,8 @@ def _flow(
     if below:
         below_top = {m: c for m, c in modules.items() if m != wrapper.TOP}
         cells = parse.classify(_design_cells(below_top), dev.family)
+    elif tree:
+        cells = parse.classify(parse.stat_tree(stat, unit), dev.family)
     else:
         cells = parse.classify(modules[unit], dev.family)
     tools = {"yosys": parse.yosys_version(stat)}
@@ -457,9 +524,12 @@ def _tail(text: str, lines: int = 15) -> str:
     return "\n".join(text.strip().splitlines()[-lines:])
 
 
-def default_runs() -> list[tuple[str, str, str]]:
-    """(unit, configuration, part) of ``make synth``: every unit at its default configuration
-    on every part, then the runs of the other targets (the specular unit's UP5K one)."""
-    runs = [(u, "default", p) for u in UNITS for p in PARTS]
-    runs += [t for t in TARGETS if t not in runs]
+def default_runs(tops: tuple[str, ...] = ()) -> list[tuple[str, str, str]]:
+    """(unit, configuration, part) of ``make synth``: every unit, then every top of ``tops``
+    (``synthesise_top``'s, e.g. the shading core), at its default configuration on every part,
+    then the runs of the other targets of those (the specular unit's UP5K one, the core's
+    other configurations)."""
+    names = [*UNITS, *(t for t in tops if t not in UNITS)]
+    runs = [(u, "default", p) for u in names for p in PARTS]
+    runs += [t for t in TARGETS if t not in runs and t[0] in names]
     return runs

@@ -20,6 +20,7 @@ keeps), Fmax is the whole design's.
 
 from __future__ import annotations
 
+import contextlib
 import re
 from dataclasses import dataclass
 from pathlib import Path
@@ -65,11 +66,20 @@ def ports(rtl: Path | str, module: str, params: dict[str, object]) -> list[Port]
             break
     else:
         raise ValueError(f"{module}: no 'module {module} #(...) (...);' header found")
+    given = {k: int(v) for k, v in params.items() if isinstance(v, int | bool)}
     env: dict[str, int] = {}
+    # In header order, as Verilog evaluates them: a value given, a number, or an expression of
+    # the parameters before it (a derived width such as the core's SPAN_WIDTH); the rest (text,
+    # what cannot be evaluated) stay out, and a port range that needs one of them raises.
     for name, value in _PARAM.findall(match.group(2) or ""):
-        if re.fullmatch(r"\d+", value.strip()):
+        if name in given:
+            env[name] = given[name]
+        elif re.fullmatch(r"\d+", value.strip()):
             env[name] = int(value)
-    env.update({k: int(v) for k, v in params.items() if isinstance(v, int | bool)})
+        else:
+            with contextlib.suppress(ValueError):
+                env[name] = _eval_width(value, env, module)
+    env.update(given)
     found = []
     for direction, msb, lsb, name in _PORT.findall(match.group(3)):
         width = 1
