@@ -1,15 +1,19 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Synthesise, place and route the RTL units on real FPGA parts and print the figures (make synth).
+"""Synthesise, place and route the RTL units and the shading core on real FPGA parts and print the
+figures (make synth).
 
-Every run goes through ``model.hw.synthesise`` (Yosys, then nextpnr with a fixed seed; results
-cached in out/synth/cache/); ``--jobs N`` runs N at a time (threads, each waiting on its tools).
-With no selection the default set runs: every unit at its default configuration on every part,
-plus the specular unit's UP5K configuration on the UP5K; every Fmax target of issue 13 is in it
-(docs/fpga.md, "Synthesis").  Exit status 1 if a target is missed or a design that must fit
+Every run goes through ``model.hw.synthesise`` (a unit) or ``sim.synth_tops.synthesise`` (a top
+of several files, the shading core, its parameters made above ``model.hw``): Yosys, then nextpnr
+with a fixed seed; results cached in out/synth/cache/; ``--jobs N`` runs N at a time (threads,
+each waiting on its tools).  With no selection the default set runs: every unit and the core at
+its default configuration on every part, plus the specular unit's UP5K configuration on the UP5K
+and the core's hybrid configuration on the ECP5-25F; every Fmax target is in it (docs/fpga.md,
+"Synthesis").  Exit status 1 if a target is missed or a design that must fit
 does not, 2 if a tool fails.
 
     python scripts/synth.py                                   # the default set
     python scripts/synth.py --units specular_unit --parts up5k --config up5k
+    python scripts/synth.py --units shading_core --parts ecp5-25f --config default hybrid
     python scripts/synth.py --jobs 2 --out out/synth --record docs/synth.json
 """
 
@@ -22,7 +26,22 @@ import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
-from model.hw import PARTS, UNITS, SynthError, default_runs, report, synthesise
+from model.hw import PARTS, UNITS, SynthError, SynthResult, default_runs, report, synthesise
+from sim import synth_tops
+
+NAMES = [*UNITS, *synth_tops.TOPS]
+
+
+def configs_of(name: str) -> list[str]:
+    """The named configurations of a unit or a top."""
+    return list(UNITS[name][1]) if name in UNITS else list(synth_tops.configs(name))
+
+
+def run(name: str, config: str, part: str, seed: int) -> SynthResult:
+    """One run of a unit or a top."""
+    if name in UNITS:
+        return synthesise(name, config, part, seed=seed)
+    return synth_tops.synthesise(name, config, part, seed=seed)
 
 
 def _names(values: list[str] | None) -> list[str] | None:
@@ -34,30 +53,34 @@ def _names(values: list[str] | None) -> list[str] | None:
 def runs_of(args: argparse.Namespace) -> list[tuple[str, str, str]]:
     units, parts, configs = _names(args.units), _names(args.parts), _names(args.config)
     if units is None and parts is None and configs is None:
-        return default_runs()
+        return default_runs(tuple(synth_tops.TOPS))
     for unit in units or ():
-        if unit not in UNITS:
-            raise ValueError(f"unit {unit!r} is unknown: known units are {', '.join(UNITS)}")
+        if unit not in NAMES:
+            raise ValueError(f"unit {unit!r} is unknown: known units are {', '.join(NAMES)}")
     for part in parts or ():
         if part not in PARTS:
             raise ValueError(f"part {part!r} is unknown: known parts are {', '.join(PARTS)}")
-    units, parts, configs = units or list(UNITS), parts or list(PARTS), configs or ["default"]
-    known = {c for u in units for c in UNITS[u][1]}
+    units, parts, configs = units or NAMES, parts or list(PARTS), configs or ["default"]
+    known = {c for u in units for c in configs_of(u)}
     for config in configs:
         if config not in known:
             raise ValueError(
                 f"config {config!r} is unknown for {', '.join(units)}: named configurations "
                 f"are {', '.join(sorted(known))}"
             )
-    return [(u, c, p) for u in units for c in configs if c in UNITS[u][1] for p in parts]
+    return [(u, c, p) for u in units for c in configs if c in configs_of(u) for p in parts]
 
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--units", nargs="*", help=f"units (default all: {', '.join(UNITS)})")
+    parser.add_argument(
+        "--units", nargs="*", help=f"units or tops (default all: {', '.join(NAMES)})"
+    )
     parser.add_argument("--parts", nargs="*", help=f"parts (default all: {', '.join(PARTS)})")
     parser.add_argument(
-        "--config", nargs="*", help="named configurations, e.g. default up5k (default: default)"
+        "--config",
+        nargs="*",
+        help="named configurations, e.g. default up5k hybrid (default: default)",
     )
     parser.add_argument("--seed", type=int, default=1, help="nextpnr seed (default 1)")
     parser.add_argument("--jobs", type=int, default=1, help="runs at a time (default 1)")
@@ -73,7 +96,7 @@ def main(argv: list[str] | None = None) -> int:
     start = time.monotonic()
     results, errors = [], []
     with ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        futures = [pool.submit(synthesise, u, c, p, seed=args.seed) for u, c, p in runs]
+        futures = [pool.submit(run, u, c, p, args.seed) for u, c, p in runs]
         for future in futures:
             try:
                 results.append(future.result())

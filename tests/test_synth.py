@@ -3,7 +3,9 @@
 and docs/synth.json recorded from the current RTL, ROM images and parameters.
 
 The real run is the divider at its article configuration (9-bit dividend, 5-bit divisor) on the
-iCE40 HX8K: a few seconds with the yowasp tools, into a fresh cache folder.
+iCE40 HX8K: a few seconds with the yowasp tools, into a fresh cache folder.  The shading core (a
+top of several files, its parameters from sim.synth_tops) is placed and routed in the slow tier;
+the quick tier checks its wrapper, its cell count and its refusals.
 """
 
 from __future__ import annotations
@@ -18,8 +20,12 @@ import pytest
 
 from model.hw import PARTS, TARGETS, UNITS, SynthResult, default_runs, parse, report, synthesise
 from model.hw import synth as hw_synth
+from model.hw.sources import source_list
 from model.hw.wrapper import ports, wrapper_verilog
+from model.render.core import PixelFormat, SpanFormat
+from model.render.pipeline import METHODS
 from model.units import divider
+from sim import synth_tops
 
 ROOT = Path(__file__).resolve().parent.parent
 RECORD = ROOT / "docs" / "synth.json"
@@ -156,9 +162,13 @@ def test_a_missed_target_fails_the_run(small: tuple[SynthResult, float, Path]) -
 
 
 def test_every_target_is_in_the_default_runs() -> None:
-    runs = default_runs()
+    runs = default_runs(tuple(synth_tops.TOPS))
     assert set(TARGETS) <= set(runs)
-    assert {p for _, _, p in runs} == set(PARTS) and {u for u, _, _ in runs} == set(UNITS)
+    assert {p for _, _, p in runs} == set(PARTS)
+    assert {u for u, _, _ in runs} == set(UNITS) | set(synth_tops.TOPS)
+    # without the tops: the units' runs only, as before the core
+    assert {u for u, _, _ in default_runs()} == set(UNITS)
+    assert ("shading_core", "hybrid", "ecp5-25f") in runs
 
 
 def test_the_record_is_current() -> None:
@@ -166,10 +176,14 @@ def test_the_record_is_current() -> None:
     every run of make synth (remake it: make synth SYNTH_ARGS='--record docs/synth.json')."""
     data = json.loads(RECORD.read_text())
     results = [SynthResult.from_json(r) for r in data["results"]]
-    assert {(r.unit, r.config, r.part) for r in results} >= set(default_runs())
+    missing = set(default_runs(tuple(synth_tops.TOPS))) - {
+        (r.unit, r.config, r.part) for r in results
+    }
+    assert not missing, f"docs/synth.json lacks the runs {sorted(missing)}"
     stale = []
     for r in results:
-        now = hw_synth.run_inputs(r.unit, r.config)
+        params = None if r.unit in UNITS else synth_tops.parameters(r.unit, r.config)
+        now = hw_synth.run_inputs(r.unit, r.config, params)
         if dict(r.inputs) != now:
             changed = [k for k in now if dict(r.inputs).get(k) != now[k]]
             stale.append(f"{r.unit} ({r.config}) on {r.part}: {', '.join(changed)} changed")
@@ -186,6 +200,75 @@ def test_every_unit_gets_a_wrapper(unit: str) -> None:
     for p in found:
         assert f".{p.name}(" in text
     assert text.count("\n    input  wire ") == 5 and text.count("\n    output wire ") == 1
+
+
+def test_the_units_synthesise_their_one_listed_file() -> None:
+    """A unit's rtl/<unit>.f names its one file, so the run (its sources, its RTL hash) is what
+    it was when the flow read rtl/<unit>.v."""
+    for unit in UNITS:
+        assert source_list(unit) == [(hw_synth.RTL_DIR / f"{unit}.v").resolve()]
+        assert list(hw_synth.rtl_sources(unit)) == [f"{unit}.v"]
+        params = hw_synth.synth_parameters(unit, hw_synth.config_named(unit, None)[1])
+        got = hw_synth.inputs_of(unit, params)["rtl"]
+        assert (
+            got
+            == hw_synth.inputs_of(unit, params, (hw_synth.RTL_DIR / f"{unit}.v").read_bytes())[
+                "rtl"
+            ]
+        )
+
+
+@pytest.mark.parametrize("config", ["default", "hybrid"])
+def test_the_core_gets_a_wrapper(config: str) -> None:
+    """The core's ports from its source list, the derived widths evaluated (s_axis_tdata is
+    SpanFormat.width bits, m_axis_tdata PixelFormat.width), every port wired."""
+    params = synth_tops.parameters("shading_core", config)
+    assert params == synth_tops.core_run.parameters(
+        METHODS[synth_tops.TOPS["shading_core"][config]]
+    )
+    text = "\n".join(d.decode() for d in hw_synth.rtl_sources("shading_core").values())
+    local = {k: v for k, v in params.items() if not k.endswith("ROM_FILE")}
+    found = {p.name: (p.direction, p.width) for p in ports(text, "shading_core", local)}
+    fmt = SpanFormat(METHODS["diffuse"])
+    assert found["s_axis_tdata"] == ("input", fmt.width) == ("input", 352)
+    assert found["m_axis_tdata"] == ("output", PixelFormat().width)
+    wrapped = wrapper_verilog("shading_core", ports(text, "shading_core", local), local)
+    for name in found:
+        assert f".{name}(" in wrapped
+    assert f"reg [{fmt.width + 1}:0] in_hold" in wrapped  # tdata, tvalid and tready
+
+
+def test_the_core_is_refused_where_it_is_not_a_unit() -> None:
+    params = synth_tops.parameters("shading_core")
+    with pytest.raises(ValueError, match="'shading_core' is unknown"):
+        synthesise("shading_core", None, "ecp5-25f")
+    with pytest.raises(ValueError, match="is a unit"):
+        hw_synth.synthesise_top("divider_shift", {}, "ecp5-25f")
+    with pytest.raises(ValueError, match=r"A_ROM_FILE = 'nowhere\.hex' does not exist"):
+        hw_synth.synthesise_top("shading_core", {**params, "A_ROM_FILE": "nowhere.hex"})
+    with pytest.raises(ValueError, match="has no source list"):
+        hw_synth.synthesise_top("no_such_top", {}, "ecp5-25f")
+    with pytest.raises(ValueError, match="'up5k' is unknown for shading_core"):
+        synth_tops.parameters("shading_core", "up5k")
+    with pytest.raises(ValueError, match="known tops are shading_core"):
+        synth_tops.parameters("adder")
+
+
+def test_cells_under_a_top_count_every_instance() -> None:
+    """stat_tree: a submodule's cells once per instance (the core has three increments)."""
+    stat = {
+        "modules": {
+            "$paramod$1\\inc": {"num_cells_by_type": {"MULT18X18D": 4, "TRELLIS_FF": 22}},
+            "$paramod$2\\top": {
+                "num_cells_by_type": {"LUT4": 10, "$paramod$1\\inc": 3, "TRELLIS_FF": 1}
+            },
+            "\\synth_top": {"num_cells_by_type": {"TRELLIS_FF": 9, "$paramod$2\\top": 1}},
+        }
+    }
+    assert parse.stat_tree(stat, "top") == {"LUT4": 10, "MULT18X18D": 12, "TRELLIS_FF": 67}
+    assert parse.stat_tree(stat, "synth_top")["TRELLIS_FF"] == 76
+    with pytest.raises(ValueError, match="names 0 modules"):
+        parse.stat_tree(stat, "nothing")
 
 
 def test_cells_are_counted_per_family() -> None:
@@ -243,3 +326,23 @@ def test_the_up5k_specular_configuration_places_and_routes_on_the_up5k(
     assert util["ICESTORM_RAM"][0] == r.bram <= util["ICESTORM_RAM"][1] == 30
     assert util["SB_IO"][0] == 6 <= util["SB_IO"][1]
     assert r.target_mhz == 40 and r.meets_target and r.fmax_mhz >= 40, r.fmax_mhz
+
+
+@pytest.mark.parametrize("config", ["default", "hybrid"])
+def test_the_core_places_and_routes_on_the_ecp5(
+    config: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The shading core from rtl/shading_core.f behind the six-pin wrapper on the ECP5-25F: it
+    fits, every instance's cells are counted (three increments' DSPs), and the run holds its
+    target (>= 100 MHz: make synth fails while it misses it, as it does for a unit)."""
+    monkeypatch.setenv("SYNTH_CACHE", str(tmp_path / "cache"))
+    r = synth_tops.synthesise("shading_core", config, "ecp5-25f", seed=1)
+    assert (r.unit, r.config, r.part) == ("shading_core", config, "ecp5-25f")
+    assert r.fits and r.overflow == "", r.overflow
+    util = {k: (u, a) for k, u, a in r.utilisation}
+    assert util["MULT18X18D"][0] == r.dsp and util["DP16KD"][0] == r.bram
+    assert util["TRELLIS_IO"][0] == 6 and util["TRELLIS_FF"][0] > r.ff > 0
+    assert r.target_mhz == 100 and r.meets_target == (r.fmax_mhz >= 100)
+    stat = (hw_synth.run_dir(r) / "stat.json").read_text()
+    assert parse.classify(parse.stat_tree(stat, "shading_core"), "ecp5").dsp == r.dsp
+    assert r.ok, f"Fmax {r.fmax_mhz} MHz, critical path {r.path_from} -> {r.path_to}"

