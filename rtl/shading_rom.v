@@ -7,8 +7,11 @@
  * Image: DEPTH data words of WIDTH bits, then the check fields, each a 32-bit value in CHUNKS
  * words of WIDTH bits, low bits first: MAGIC, depth, width, the NUM_FIELDS configuration values
  * of FIELDS, the FNV-1a checksum of the data words (over 32-bit pieces, low first) and "END!".
- * At time 0 the whole image is read; every word must be defined (Icarus leaves X for a missing
- * file, a short file or a non-hex word) and every field must be this instance's.  A bad image
+ * At time 0 the whole image is read word by word (read_word: not by $readmemh, whose
+ * Verilator version aborts on a word past the end of its array before a check could name the
+ * field); every word must be there (not in a missing file, past the end of a short one or from
+ * a non-hex word on) and defined, no word may follow them, and every field must be this
+ * instance's.  A bad image
  * prints the file, the field, what it holds and what this instance needs, and ends the run
  * with a non-zero exit status: $fatal under Icarus, $stop under other simulators (Verilator
  * exits with an error; $fatal is SystemVerilog, which Verilator's 1364-2005 mode refuses).
@@ -36,7 +39,7 @@ module shading_rom #(
     // The $readmemh image
     parameter FILE = "rom.hex",
     // What the ROM is, for the messages
-    parameter [8*32-1:0] NAME = "ROM",
+    parameter NAME = "ROM",
     // The image's first check field
     parameter [31:0] MAGIC = "ROM?",
     // Configuration fields after depth and width, 0..12
@@ -89,6 +92,30 @@ localparam WORDS = DEPTH + TOTAL_FIELDS * CHUNKS;
 
 reg [WIDTH-1:0] image [0:WORDS-1];
 
+// The next word of a $readmemh image from file fd: blank space and // comments skipped; got = 1
+// with the word, 0 at the end of the file or at a word that is not hex (reading stops there).
+// (Verilator 5.006 counts fd unused.)
+// verilator lint_off UNUSEDSIGNAL
+task read_word(input integer fd, output reg [WIDTH-1:0] word, output integer got);
+    integer ch;
+    begin
+        got = -1;
+        word = {WIDTH{1'b0}};
+        while (got < 0) begin
+            ch = $fgetc(fd);
+            if (ch == -1) begin
+                got = 0;
+            end else if (ch == "/") begin
+                while (ch != -1 && ch != 10) ch = $fgetc(fd);
+            end else if (ch != " " && ch != 9 && ch != 10 && ch != 13) begin
+                ch = $ungetc(ch, fd);
+                got = ($fscanf(fd, "%h", word) == 1) ? 1 : 0;
+            end
+        end
+    end
+endtask
+// verilator lint_on UNUSEDSIGNAL
+
 function [31:0] expected(input integer f, input [31:0] sum);
     begin
         if (f == 0) begin
@@ -126,6 +153,10 @@ function [8*16-1:0] field_name(input integer f);
 endfunction
 
 reg                     chk_bad;
+integer                 chk_fd;
+integer                 chk_got;
+integer                 chk_n;
+reg [WIDTH-1:0]         chk_read;
 integer                 chk_i;
 integer                 chk_p;
 reg [WIDTH+31:0]        chk_word;
@@ -136,10 +167,23 @@ reg [31:0]              chk_want;
 reg [31:0]              chk_sum;
 
 initial begin
-    $readmemh(FILE, image);
+    // chk_n: the words the file holds (its first WORDS go into the image)
+    chk_n = 0;
+    chk_fd = $fopen(FILE, "r");
+    if (chk_fd != 0) begin
+        chk_got = 1;
+        while (chk_got == 1) begin
+            read_word(chk_fd, chk_read, chk_got);
+            if (chk_got == 1) begin
+                if (chk_n < WORDS) image[chk_n] = chk_read;
+                chk_n = chk_n + 1;
+            end
+        end
+        $fclose(chk_fd);
+    end
     chk_bad = 1'b0;
     for (chk_i = 0; chk_i < WORDS; chk_i = chk_i + 1) begin
-        if (!chk_bad && ^image[chk_i] === 1'bx) begin
+        if (!chk_bad && (chk_i >= chk_n || ^image[chk_i] === 1'bx)) begin
             $write("%m: %0s \"%0s\": word %0d is undefined: the file is missing or ", NAME,
                    FILE, chk_i);
             $write("unreadable, has fewer than the %0d words of this image (%0d data + ",
@@ -169,6 +213,12 @@ initial begin
             $display("the image of this configuration; regenerate it with make roms");
             chk_bad = 1'b1;
         end
+    end
+    if (!chk_bad && chk_n > WORDS) begin
+        $write("%m: %0s \"%0s\": the file has %0d words, more than the %0d of this image; ", NAME,
+               FILE, chk_n, WORDS);
+        $display("regenerate it with make roms");
+        chk_bad = 1'b1;
     end
     if (chk_bad) begin
         $fflush;

@@ -277,3 +277,72 @@ def test_a_mesh_file_through_the_core_is_the_model_frame(tmp_path):
     for method in ("hybrid", "diffuse"):
         r = core_run.cosimulate(target, 48, method, tag=f"core_mesh_{method}")
         assert r.equal and r.run.cycles == r.model_cycles, method
+
+
+def test_a_soak_under_verilator_binary_scoreboards_every_pixel(request):
+    """The vector soak: random span beats (every field at random, invalid n and the longest
+    span included) with random idles and stalls through the core under ``verilator --binary``,
+    every pixel compared; SOAK_SEED=N replays a run (the seed is printed in the summary)."""
+    import random
+
+    from sim.runner import env_seed
+    from tests.conftest import record_sim
+
+    seed = env_seed("SOAK_SEED")
+    seed = random.randrange(1 << 30) if seed is None else seed
+    fmt = core.SpanFormat(DEFAULT)
+    rng = np.random.default_rng(seed)
+    lengths = rng.integers(1, 24, 3000)
+    lengths[rng.integers(0, lengths.size, 3)] = DEFAULT.gouraud.len_max
+    words = random_words(fmt, lengths.size, seed, lengths=lengths)
+    params = core_run.parameters(DEFAULT)
+    r = core_run.run_words(
+        words, fmt, params, sim="verilator", idle_pct=20, stall_pct=30, seed=seed, tag="soak"
+    )
+    assert r.mismatches == [], f"SOAK_SEED={seed}"
+    assert r.pixels == int(lengths.sum())
+    record = {"unit": "shading_core", "test": "soak", "jobs": r.spans, "errors": 0}
+    record_sim(request, [{**record, "compared": r.pixels, "cycles": r.cycles, "seed": seed}])
+
+
+ROM_DAMAGE = {
+    "missing": r'RECIP_ROM_FILE ".*missing\.hex": word 0 is undefined',
+    "other": r'RECIP_ROM_FILE ".*": check field (magic|width|depth) is',
+    "short": r"RECIP_ROM_FILE .*: word \d+ is undefined",
+    "long": r"RECIP_ROM_FILE .*: the file has \d+ words, more than the \d+ of this image",
+    "data": r"RECIP_ROM_FILE .*: check field checksum is .*a data word differs",
+}
+
+
+@pytest.mark.parametrize(
+    ("sim", "damage"),
+    [*(("icarus", d) for d in ROM_DAMAGE), ("verilator", "other"), ("verilator", "long")],
+)
+def test_a_bad_rom_image_stops_the_core_naming_file_and_field(sim, damage, tmp_path):
+    """A missing, foreign, short, long or altered image stops the run at time 0 with one
+    message naming the file and the field, under either simulator (Verilator: the two images
+    its own $readmemh could not have reported)."""
+    import re
+
+    from model.units import divider
+
+    says = ROM_DAMAGE[damage]
+    params = core_run.parameters(DEFAULT)
+    good = divider.rom_path(DEFAULT.divider).read_text().splitlines()
+    path = tmp_path / f"{damage}.hex"
+    if damage == "other":
+        path = divider.rom_path(divider.ROM_CONFIGS["n16"])
+    elif damage == "short":
+        path.write_text("\n".join(good[:-5]) + "\n")
+    elif damage == "long":
+        path.write_text("\n".join([*good, good[-1]]) + "\n")
+    elif damage == "data":
+        first = next(i for i, line in enumerate(good) if not line.startswith("//"))
+        good[first + 1] = "0" * len(good[first + 1])  # k = 1: 2^N
+        path.write_text("\n".join(good) + "\n")
+    fmt = core.SpanFormat(DEFAULT)
+    words = random_words(fmt, 2, seed=1)
+    with pytest.raises(AssertionError) as err:
+        core_run.run_words(words, fmt, {**params, "RECIP_ROM_FILE": str(path)}, sim=sim,
+                           tag=f"core_rom_{sim}_{damage}")  # fmt: skip
+    assert re.search(says, str(err.value)), str(err.value)
