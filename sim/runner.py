@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: Apache-2.0
 """Build an RTL unit under Icarus or Verilator and run a cocotb bench on it, from pytest.
+The sources are what the top's ``rtl/<top>.f`` lists (``model.hw.sources.source_list``).
 
 ``run_bench`` is the one entry point the tests use: it builds into ``sim_build/<name>`` (under
 Verilator ``sim_build/<name>-verilator``) with the simulator named by ``SIM`` in the environment
@@ -42,6 +43,7 @@ from cocotb_tools.check_results import get_results
 from cocotb_tools.runner import get_runner
 
 from model.hw.params import hdl_parameters, unit_parameters  # noqa: F401 (re-exported)
+from model.hw.sources import source_list
 
 # The RTL is the package data ``model.rtl``; builds go to $SIM_BUILD, default ./sim_build in the
 # caller's folder.  ``sim`` itself is an installed package: benches run from any folder.
@@ -187,6 +189,21 @@ def env_seed(variable: str) -> int | None:
         ) from None
 
 
+def bench_sources(toplevel: str, rtl: Path | None = None) -> list[Path]:
+    """The Verilog sources of ``toplevel``: what ``rtl/<toplevel>.f`` lists, in order (a top
+    may span files, ``rtl/shading_core.f``); ``rtl`` (a saved mutant) replaces the listed
+    ``<toplevel>.v``.  A list that does not name ``<toplevel>.v`` with ``rtl`` given raises."""
+    sources = source_list(toplevel, RTL_DIR)
+    if rtl is None:
+        return sources
+    top_file = f"{toplevel}.v"
+    if not any(path.name == top_file for path in sources):
+        raise ValueError(
+            f"rtl = {str(rtl)!r} cannot replace {top_file}: rtl/{toplevel}.f does not list it"
+        )
+    return [Path(rtl) if path.name == top_file else path for path in sources]
+
+
 def run_bench(
     toplevel: str,
     bench_module: str,
@@ -200,14 +217,15 @@ def run_bench(
     expect_failure: bool = False,
     reset_all: int | None = None,
 ) -> list[dict]:
-    """Build ``rtl/<toplevel>.v`` with ``parameters`` and run ``sim/<bench_module>.py``.
+    """Build the sources ``rtl/<toplevel>.f`` lists (``bench_sources``) with ``parameters`` and
+    run ``sim/<bench_module>.py``.
 
     ``config`` (a dataclass) reaches the bench as JSON in BENCH_CONFIG.  String parameters are
     quoted (``"..."``) here for both simulators: cocotb passes each as one argument,
     ``-P<top>.NAME="..."`` to Icarus, ``-GNAME="..."`` to Verilator.  Returns the summary
     records the bench's monitors wrote.
-    ``rtl`` replaces ``rtl/<toplevel>.v`` (a saved mutant); with ``expect_failure`` the bench
-    must fail (the records are returned then, with the failed tests' errors counted).
+    ``rtl`` replaces the listed ``rtl/<toplevel>.v`` (a saved mutant); with ``expect_failure``
+    the bench must fail (the records are returned then, with the failed tests' errors counted).
     ``reset_all`` (0 or 1) sets the RESET_ALL parameter; None keeps the one in ``parameters``
     (the RTL's default, 0, if it has none).
     """
@@ -255,7 +273,7 @@ def run_bench(
     results_xml.unlink(missing_ok=True)
     with environment(verilator_env() if sim == "verilator" else {}):
         runner.build(
-            sources=[rtl or RTL_DIR / f"{toplevel}.v"],
+            sources=bench_sources(toplevel, rtl),
             hdl_toplevel=toplevel,
             parameters=hdl_params,
             build_dir=build_dir,
