@@ -19,10 +19,10 @@
  * min(gouraud + diffuse + specular, 255).  Every pixel equals model.render.core.core_pixels.
  *
  * Structure: the input register and the ROM reads (stage A: ROM 9's a, the reciprocal of l,
- * decoder 10), the three products (stages B to D), the span register (the issuer: Gouraud,
+ * decoder 10), the three products (stages B to E), the span register (the issuer: Gouraud,
  * angle and diffuse-angle accumulators, the pixel counter), the pixel pipeline (specular
- * stages S1..S8 beside the delayed Gouraud values), the sum into the output FIFO.  A span beat
- * is taken while stage D is empty or moves into the span register; the span register takes the
+ * stages S1..S10 beside the delayed Gouraud values), the sum into the output FIFO.  A span beat
+ * is taken while stage E is empty or moves into the span register; the span register takes the
  * next span in the clock that issues the last pixel of the current one, so spans follow each
  * other with no gap.  The issuer issues a pixel only while the pixels in flight and in the
  * FIFO leave room in it (a credit count), so output backpressure stalls the issuer and never
@@ -398,7 +398,7 @@ reg [AW-1:0]           ab_reg;
 reg [CH*C_WIDTH-1:0]   dcb_reg;
 reg [Z_WIDTH-1:0]      ddzb_reg;
 reg [Z_WIDTH-1:0]      dz0b_reg;
-wire [CH*DI_WIDTH-1:0] di_b;  // the increments of the span in stage D
+wire [CH*DI_WIDTH-1:0] di_b;  // the increments of the span in stage E
 
 genvar g;
 generate
@@ -417,14 +417,16 @@ generate
     end
 endgenerate
 
-// Stages C and D: stage B's fields wait while the products finish (shading_increment's
-// pipeline: di belongs to the span in stage D)
+// Stages C, D and E: stage B's fields wait while the products finish (shading_increment's
+// pipeline: di belongs to the span in stage E)
 localparam FB_WIDTH = X_WIDTH + Y_WIDTH + LEN_WIDTH + 2 + CH * I_WIDTH + C_WIDTH + 2 * Z_WIDTH
                     + TSEL_BITS + 1 + AW + CH * C_WIDTH + 2 * Z_WIDTH;
 reg  [FB_WIDTH-1:0] fc_reg;
 reg  [FB_WIDTH-1:0] fd_reg;
+reg  [FB_WIDTH-1:0] fe_reg;
 reg                 vc_reg;
 reg                 vd_reg;
+reg                 ve_reg;
 wire [X_WIDTH-1:0]     xd;
 wire [Y_WIDTH-1:0]     yd;
 wire [LEN_WIDTH-1:0]   ld;
@@ -440,13 +442,14 @@ wire [AW-1:0]          ad;
 wire [CH*C_WIDTH-1:0]  dcd;
 wire [Z_WIDTH-1:0]     ddzd;
 wire [Z_WIDTH-1:0]     dz0d;
-assign {xd, yd, ld, specd, diffd, id, cd, dzd, z0d, tseld, nerrd, ad, dcd, ddzd, dz0d} = fd_reg;
+assign {xd, yd, ld, specd, diffd, id, cd, dzd, z0d, tseld, nerrd, ad, dcd, ddzd, dz0d} = fe_reg;
 
 always @(posedge clk) begin
     if (ce) begin
         fc_reg <= {xb_reg, yb_reg, lb_reg, specb_reg, diffb_reg, ib_reg, cb_reg, dzb_reg, z0b_reg,
                    tselb_reg, nerrb_reg, ab_reg, dcb_reg, ddzb_reg, dz0b_reg};
         fd_reg <= fc_reg;
+        fe_reg <= fd_reg;
     end
 end
 
@@ -498,8 +501,8 @@ reg [OCC_BITS-1:0]     occ_reg;
 wire out_fire = m_axis_tvalid && m_axis_tready;
 wire issue = act_reg && (occ_reg < OCC_MAX);
 wire last_px = (cnt_reg == {LEN_WIDTH{1'b0}});
-assign take = vd_reg && (!act_reg || (issue && last_px));
-assign ce = !vd_reg || take;
+assign take = ve_reg && (!act_reg || (issue && last_px));
+assign ce = !ve_reg || take;
 
 localparam [G_WIDTH-1:0] G_BIAS = 1 << (I_FRAC - 1);
 integer ci;
@@ -546,6 +549,7 @@ always @(posedge clk) begin
         vb_reg <= va_reg;
         vc_reg <= vb_reg;
         vd_reg <= vc_reg;
+        ve_reg <= vd_reg;
     end
     if (take) begin
         act_reg <= 1'b1;
@@ -558,19 +562,21 @@ always @(posedge clk) begin
         vb_reg <= 1'b0;
         vc_reg <= 1'b0;
         vd_reg <= 1'b0;
+        ve_reg <= 1'b0;
         act_reg <= 1'b0;
         occ_reg <= {OCC_BITS{1'b0}};
     end
 end
 
 // ---------------------------------------------------------------- the pixel pipeline
-// S0 is the span register (the accumulators); S1..S8 as the specular unit's stages.  Beside
+// S0 is the span register (the accumulators); S1..S10 the specular stages
+// (rtl/shading_specular_pipe.v).  Beside
 // them: the Gouraud values (truncated and saturated from S0), x, y, tlast and tuser.
-localparam STAGES = 8;
+localparam STAGES = 10;
 localparam SIDE = X_WIDTH + Y_WIDTH + CH * I_INT + 2;
 
 reg [STAGES:1]        v_reg;
-reg [STAGES*SIDE-1:0] side_reg;  // S1 in the low bits, S8 in the high
+reg [STAGES*SIDE-1:0] side_reg;  // S1 in the low bits, S10 in the high
 
 wire [CH*I_INT-1:0] g_val;
 generate
@@ -696,12 +702,12 @@ endgenerate
 
 // ---------------------------------------------------------------- the sum, the output FIFO
 localparam SUM_WIDTH = ((I_INT > OUT_WIDTH) ? I_INT : OUT_WIDTH) + 2;
-wire [SIDE-1:0]   side8 = side_reg[(STAGES-1)*SIDE +: SIDE];
+wire [SIDE-1:0]   side_out = side_reg[(STAGES-1)*SIDE +: SIDE];
 wire [3*8-1:0]    rgb;
 generate
     for (g = 0; g < CH; g = g + 1) begin : g_sum
         wire [SUM_WIDTH-1:0] total = {{(SUM_WIDTH-I_INT){1'b0}},
-                                      side8[X_WIDTH + Y_WIDTH + g*I_INT +: I_INT]}
+                                      side_out[X_WIDTH + Y_WIDTH + g*I_INT +: I_INT]}
                                    + {{(SUM_WIDTH-OUT_WIDTH){1'b0}}, spec_int}
                                    + {{(SUM_WIDTH-OUT_WIDTH){1'b0}},
                                       diff_int[g*OUT_WIDTH +: OUT_WIDTH]};
@@ -712,13 +718,13 @@ endgenerate
 wire [PIX_WIDTH-1:0] pix_data;
 generate
     if (PIX_WIDTH > PIX_BITS) begin : g_pad
-        assign pix_data = {{(PIX_WIDTH-PIX_BITS){1'b0}}, rgb, side8[X_WIDTH+Y_WIDTH-1:0]};
+        assign pix_data = {{(PIX_WIDTH-PIX_BITS){1'b0}}, rgb, side_out[X_WIDTH+Y_WIDTH-1:0]};
     end else begin : g_nopad
-        assign pix_data = {rgb, side8[X_WIDTH+Y_WIDTH-1:0]};
+        assign pix_data = {rgb, side_out[X_WIDTH+Y_WIDTH-1:0]};
     end
 endgenerate
 
-// The FIFO always has room for a pixel in S8 (the credit count), so its s_axis_tready is
+// The FIFO always has room for a pixel in S10 (the credit count), so its s_axis_tready is
 // not needed
 // verilator lint_off UNUSEDSIGNAL
 wire fifo_ready;
@@ -731,8 +737,8 @@ shading_axis_fifo #(
     .clk(clk),
     .rst_n(rst_n),
     .s_axis_tdata(pix_data),
-    .s_axis_tlast(side8[SIDE-2]),
-    .s_axis_tuser(side8[SIDE-1]),
+    .s_axis_tlast(side_out[SIDE-2]),
+    .s_axis_tuser(side_out[SIDE-1]),
     .s_axis_tvalid(v_reg[STAGES]),
     .s_axis_tready(fifo_ready),
     .m_axis_tdata(m_axis_tdata),

@@ -8,9 +8,9 @@
  * a pipeline, so a span's three divisions take one clock each instead of up to RECIP_BITS + 1.
  *
  * Timing (every stage moves at an edge with ce): a and r are registered (r comes from a block
- * RAM, whose output has no time left for logic), then the two halves of the product a * r_lo
- * and a * r_hi (each one multiplier), then their sum into q_reg; di is combinational from
- * q_reg: three stages.
+ * RAM, whose output has no time left for logic), then four partial products of their halves
+ * (each one 18 x 18 multiplier of an FPGA), then a * r_lo-half and a * r_hi-half sums, then q
+ * into q_reg; di is combinational from q_reg: four stages.
  */
 
 `resetall
@@ -40,24 +40,41 @@ generate
     end
 endgenerate
 
-// The reciprocal split in two halves: r = r_hi * 2^LO + r_lo
-localparam LO = (RECIP_BITS + 1) / 2;
-localparam HI = RECIP_BITS + 1 - LO;
+// a and r each split in two: a = a_hi * 2^AL + a_lo (a_hi signed), r = r_hi * 2^RL + r_lo;
+// each of the four partial products fits one 18 x 18 multiplier of an FPGA
+localparam AL = A_WIDTH / 2;
+localparam AH = A_WIDTH - AL;
+localparam RL = (RECIP_BITS + 1) / 2;
+localparam RH = RECIP_BITS + 1 - RL;
 
-reg [A_WIDTH-1:0]             a_reg;
-reg [RECIP_BITS:0]            r_reg;
-reg signed [A_WIDTH+LO:0]     lo_reg;
-reg signed [A_WIDTH+HI:0]     hi_reg;
-reg signed [Q_WIDTH-1:0]      q_reg;
+reg [A_WIDTH-1:0]           a_reg;
+reg [RECIP_BITS:0]          r_reg;
+reg [AL+RL-1:0]             ll_reg;   // a_lo * r_lo (unsigned)
+reg [AL+RH-1:0]             lh_reg;   // a_lo * r_hi (unsigned)
+reg signed [AH+RL:0]        hl_reg;   // a_hi * r_lo
+reg signed [AH+RH:0]        hh_reg;   // a_hi * r_hi
+reg signed [Q_WIDTH-1:0]    lo_reg;   // a_lo * r
+reg signed [Q_WIDTH-1:0]    hi_reg;   // a_hi * r
+reg signed [Q_WIDTH-1:0]    q_reg;
+
+wire [AL-1:0]        a_lo = a_reg[AL-1:0];
+wire signed [AH-1:0] a_hi = a_reg[A_WIDTH-1:AL];
+wire [RL-1:0]        r_lo = r_reg[RL-1:0];
+wire [RH-1:0]        r_hi = r_reg[RECIP_BITS:RL];
 
 always @(posedge clk) begin
     if (ce) begin
         a_reg <= a;
         r_reg <= r;
-        lo_reg <= $signed(a_reg) * $signed({1'b0, r_reg[LO-1:0]});
-        hi_reg <= $signed(a_reg) * $signed({1'b0, r_reg[RECIP_BITS:LO]});
-        q_reg <= {{(Q_WIDTH-A_WIDTH-LO-1){lo_reg[A_WIDTH+LO]}}, lo_reg}
-                 + ({{(Q_WIDTH-A_WIDTH-HI-1){hi_reg[A_WIDTH+HI]}}, hi_reg} <<< LO);
+        ll_reg <= a_lo * r_lo;
+        lh_reg <= a_lo * r_hi;
+        hl_reg <= a_hi * $signed({1'b0, r_lo});
+        hh_reg <= a_hi * $signed({1'b0, r_hi});
+        lo_reg <= $signed({{(Q_WIDTH-AL-RL){1'b0}}, ll_reg})
+                  + ($signed({{(Q_WIDTH-AL-RH){1'b0}}, lh_reg}) <<< RL);
+        hi_reg <= $signed({{(Q_WIDTH-AH-RL-1){hl_reg[AH+RL]}}, hl_reg})
+                  + ($signed({{(Q_WIDTH-AH-RH-1){hh_reg[AH+RH]}}, hh_reg}) <<< RL);
+        q_reg <= lo_reg + (hi_reg <<< AL);
     end
 end
 

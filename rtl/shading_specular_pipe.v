@@ -1,6 +1,6 @@
 // SPDX-License-Identifier: Apache-2.0
 /*
- * The specular unit's per-pixel datapath (rtl/specular_unit.v, stages S1..S8) as a stream:
+ * The specular unit's per-pixel datapath (rtl/specular_unit.v, its stages S1..S8) as a stream:
  * a new pixel every clock, each with its own a, table, zero flag and C, so that pixels of
  * successive lines follow each other with no gap.  CHANNELS copies of multiplier 13 share one
  * angle: the shading core's diffuse jobs (one C per colour channel, one dz and z0 per span).
@@ -8,10 +8,14 @@
  *
  * Pipeline: the caller's accumulator register is S0 (acc_in, with a_in, tsel_in, zero_in and
  * c_in of the same pixel); S1 |zeta| without its carry (sign, one's complement, "too big"),
- * S2 |zeta| saturated to MAG_INT_BITS integer bits, S3 multiplier 11 (x a), S4 the address
- * rounded, S5 the ROM-12 read (outside: rom_addr out, rom_q in, the ROM's read register) and
- * the zero flag (>= pi/2, or zero_in), S6 the gated word, S7 multiplier 13 (x C), S8 rounding
- * and saturation: intensity holds the pixel that was in S0 eight clocks before.  The data
+ * S2 |zeta| saturated to MAG_INT_BITS integer bits, S3 and S4 multiplier 11 (x a: the two
+ * halves of |zeta| times a, each one 18 x 18 multiplier of an FPGA, then their sum), S5 the
+ * address rounded, S6 the ROM-12 read (outside: rom_addr out, rom_q in, the ROM's read
+ * register, a block RAM's output) and the zero flag (>= pi/2, or zero_in), S7 the word in a
+ * register of the fabric, S8 the gated word, S9 multiplier 13 (x C), S10 rounding and
+ * saturation: intensity holds the pixel that was in S0 ten clocks before (the unit's S3 and
+ * S5 each take two stages here, so that no multiplier's carry chain and no block RAM's output
+ * shares a clock with other logic).  The data
  * path has no reset (it is loaded from S0 every clock; the caller's valid flags say which
  * results are pixels).
  */
@@ -59,6 +63,9 @@ module shading_specular_pipe #(
 
 localparam MAG_WIDTH = MAG_INT_BITS + Z_FRAC_BITS;
 localparam PROD_WIDTH = MAG_WIDTH + A_WIDTH;
+// |zeta| in two halves for multiplier 11
+localparam ML = (MAG_WIDTH + 1) / 2;
+localparam MH = MAG_WIDTH - ML;
 localparam SHIFT = Z_FRAC_BITS + A_FRAC_BITS - ROM_ADDR_BITS;
 localparam RND_WIDTH = PROD_WIDTH + 1 - SHIFT;
 localparam OP_WIDTH = C_WIDTH + ROM_DATA_BITS;
@@ -73,6 +80,10 @@ generate
         shading_specular_pipe_PARAMETER_ERROR_Z_FRAC_BITS_plus_A_FRAC_BITS_must_exceed_ROM_ADDR_BITS
             u_error ();
     end
+    if (MAG_WIDTH < 2) begin : g_check_mag_width
+        shading_specular_pipe_PARAMETER_ERROR_MAG_INT_BITS_plus_Z_FRAC_BITS_must_be_at_least_2
+            u_error ();
+    end
     if (MAG_WIDTH >= ACC_WIDTH) begin : g_check_mag
         shading_specular_pipe_PARAMETER_ERROR_MAG_INT_BITS_plus_Z_FRAC_BITS_must_be_below_ACC_WIDTH
             u_error ();
@@ -82,18 +93,22 @@ endgenerate
 // Per-pixel side data, delayed to the stage that uses it
 reg [A_WIDTH-1:0]          a1_reg;
 reg [A_WIDTH-1:0]          a2_reg;
-// Shift registers, the newest stage in the low bits: tsel and zero_in to S4, C to S6
-reg [4*TSEL_BITS-1:0]        tsel_reg;
-reg [3:0]                    zin_reg;
-reg [6*CHANNELS*C_WIDTH-1:0] c_reg;
+// Shift registers, the newest stage in the low bits: tsel and zero_in to S5, C to S8
+reg [5*TSEL_BITS-1:0]        tsel_reg;
+reg [4:0]                    zin_reg;
+reg [8*CHANNELS*C_WIDTH-1:0] c_reg;
 
 reg [MAG_WIDTH-1:0]        low_reg;
 reg                        neg_reg;
 reg                        big_reg;
 reg [MAG_WIDTH-1:0]        mag_reg;
+reg [ML+A_WIDTH-1:0]       plo_reg;
+reg [MH+A_WIDTH-1:0]       phi_reg;
 reg [PROD_WIDTH-1:0]       prod_reg;
 reg [RND_WIDTH-1:0]        addr_reg;
 reg                        zero_reg;
+reg                        zero2_reg;
+reg [ROM_DATA_BITS-1:0]    rom_q2_reg;
 reg [ROM_DATA_BITS-1:0]    rom_d_reg;
 reg [CHANNELS*OP_WIDTH-1:0] out_prod_reg;
 reg [CHANNELS*OUT_WIDTH-1:0] intensity_reg;
@@ -106,33 +121,37 @@ wire                 acc_big = acc_neg ? (~&acc_in[ACC_WIDTH-1:MAG_WIDTH]
 // S1 -> S2: |zeta| = low + 1 if negative, saturated
 wire [MAG_WIDTH-1:0] mag_next = big_reg ? {MAG_WIDTH{1'b1}}
                                         : low_reg + {{(MAG_WIDTH-1){1'b0}}, neg_reg};
-// S3 -> S4: rounded at the ROM-12 address LSB
+// S4 -> S5: rounded at the ROM-12 address LSB
 wire [PROD_WIDTH:0]  prod_rnd = {1'b0, prod_reg} + ({{PROD_WIDTH{1'b0}}, 1'b1} << (SHIFT - 1));
-// S4 -> S5: the address; >= pi/2 reads as 0
+// S5 -> S6: the address; >= pi/2 reads as 0
 wire                 rom_ovf = |addr_reg[RND_WIDTH-1:ROM_ADDR_BITS];
 localparam CW = CHANNELS * C_WIDTH;
-wire [TSEL_BITS-1:0] tsel4 = tsel_reg[3*TSEL_BITS +: TSEL_BITS];
-wire [CW-1:0]        c6 = c_reg[5*CW +: CW];
-assign rom_addr = {tsel4, addr_reg[ROM_ADDR_BITS-1:0]};
+wire [TSEL_BITS-1:0] tsel5 = tsel_reg[4*TSEL_BITS +: TSEL_BITS];
+wire [CW-1:0]        c8 = c_reg[7*CW +: CW];
+assign rom_addr = {tsel5, addr_reg[ROM_ADDR_BITS-1:0]};
 
 always @(posedge clk) begin
     a1_reg <= a_in;
     a2_reg <= a1_reg;
-    tsel_reg <= {tsel_reg[0 +: 3*TSEL_BITS], tsel_in};
-    zin_reg <= {zin_reg[2:0], zero_in};
-    c_reg <= {c_reg[0 +: 5*CW], c_in};
+    tsel_reg <= {tsel_reg[0 +: 4*TSEL_BITS], tsel_in};
+    zin_reg <= {zin_reg[3:0], zero_in};
+    c_reg <= {c_reg[0 +: 7*CW], c_in};
 
     low_reg <= acc_in[MAG_WIDTH-1:0] ^ {MAG_WIDTH{acc_neg}};
     neg_reg <= acc_neg;
     big_reg <= acc_big;
     mag_reg <= mag_next;
-    prod_reg <= mag_reg * a2_reg;
+    plo_reg <= mag_reg[ML-1:0] * a2_reg;
+    phi_reg <= mag_reg[MAG_WIDTH-1:ML] * a2_reg;
+    prod_reg <= {{MH{1'b0}}, plo_reg} + ({{ML{1'b0}}, phi_reg} << ML);
     addr_reg <= prod_rnd[PROD_WIDTH:SHIFT];
-    zero_reg <= rom_ovf || zin_reg[3];
-    rom_d_reg <= zero_reg ? {ROM_DATA_BITS{1'b0}} : rom_q;
+    zero_reg <= rom_ovf || zin_reg[4];
+    rom_q2_reg <= rom_q;
+    zero2_reg <= zero_reg;
+    rom_d_reg <= zero2_reg ? {ROM_DATA_BITS{1'b0}} : rom_q2_reg;
 end
 
-// S6 -> S7 -> S8 per channel: multiplier 13, rounding, saturation
+// S8 -> S9 -> S10 per channel: multiplier 13, rounding, saturation
 genvar ch;
 generate
     for (ch = 0; ch < CHANNELS; ch = ch + 1) begin : g_channel
@@ -153,7 +172,7 @@ generate
         wire unused_rnd = &{1'b0, out_rnd[OSHIFT-1:0]};
         // verilator lint_on UNUSEDSIGNAL
         always @(posedge clk) begin
-            out_prod_reg[ch*OP_WIDTH +: OP_WIDTH] <= c6[ch*C_WIDTH +: C_WIDTH] * rom_d_reg;
+            out_prod_reg[ch*OP_WIDTH +: OP_WIDTH] <= c8[ch*C_WIDTH +: C_WIDTH] * rom_d_reg;
             intensity_reg[ch*OUT_WIDTH +: OUT_WIDTH] <= out_sat;
         end
     end

@@ -250,3 +250,87 @@ def cosimulate(
     rtl_rgb = shade.shade(frame_raster, replay).rgb
     model_rgb = shade.shade(frame_raster, pipeline.unit_shader(cfg)).rgb
     return FrameResult(rtl_rgb, model_rgb, result, core.core_cycles(stream.total_pixels))
+
+
+VECTOR_SET = vector_run.VECTOR_DIR / "core_default"
+"""The committed vector set of the default core: span beats and the model's pixel beats."""
+VECTOR_SPANS = 300
+VECTOR_SEED = 2026
+
+
+def vector_set_words(cfg: PipelineConfig | None = None) -> list[int]:
+    """The committed set's span beats: ``VECTOR_SPANS`` random spans (``random_spans``), every
+    field in its range, the longest span and one-pixel spans among them."""
+    from model.render.pipeline import METHODS
+
+    cfg = cfg or METHODS["diffuse"]
+    fmt = core.SpanFormat(cfg)
+    import numpy as np
+
+    rng = np.random.default_rng(VECTOR_SEED)
+    lengths = rng.integers(1, 16, VECTOR_SPANS)
+    lengths[:20] = 1
+    lengths[100] = cfg.gouraud.len_max
+    return random_spans(fmt, lengths, VECTOR_SEED)
+
+
+def random_spans(fmt: core.SpanFormat, lengths, seed: int) -> list[int]:
+    """Span beats of ``lengths`` pixels, every other field random in its range (n from 0 to
+    1023: the refused ones included)."""
+    import numpy as np
+
+    rng = np.random.default_rng(seed)
+    g, s = fmt.cfg.gouraud, fmt.cfg.specular
+    z_lo, z_hi = s.z_format.lo, s.z_format.hi
+    layout = fmt.layout()
+    words = []
+    for n_px in (int(v) for v in lengths):
+        row = {
+            "x": int(rng.integers(0, (1 << fmt.x_width) - n_px + 1)),
+            "y": int(rng.integers(0, 1 << fmt.y_width)),
+            "l": n_px - 1,
+            "spec": int(rng.integers(0, 2)),
+            "diff": int(rng.integers(0, 2)),
+            "c": int(rng.integers(0, 1 << s.c_width)),
+            "dz": int(rng.integers(z_lo, z_hi + 1) >> int(rng.integers(0, 16))),
+            "z0": int(rng.integers(z_lo, z_hi + 1)),
+            "n": int(rng.integers(0, 1 << core.N_WIDTH)),
+            "diff_dz": int(rng.integers(z_lo, z_hi + 1) >> int(rng.integers(0, 16))),
+            "diff_z0": int(rng.integers(z_lo, z_hi + 1)),
+        }
+        for c in range(core.CHANNELS):
+            row[f"i_start{c}"] = int(rng.integers(0, 1 << g.i_width))
+            row[f"i_end{c}"] = int(rng.integers(0, 1 << g.i_width))
+            row[f"diff_c{c}"] = int(rng.integers(0, 1 << s.c_width))
+        words.append(core.pack(layout, row))
+    return words
+
+
+def vector_set_text(cfg: PipelineConfig | None = None) -> tuple[str, str]:
+    """(spans.hex, pixels.hex) of the committed set: the span beats and the model's beats."""
+    from model.render.pipeline import METHODS
+
+    cfg = cfg or METHODS["diffuse"]
+    fmt = core.SpanFormat(cfg)
+    pix = core.PixelFormat(fmt.x_width, fmt.y_width)
+    words = vector_set_words(cfg)
+    digits, pdigits = -(-fmt.width // 4), -(-pix.width // 4)
+    spans = "".join(f"{w:0{digits}x}\n" for w in words)
+    pixels = "".join(
+        f"{core.pixel_word(p, pix):0{pdigits}x} {p['last']:x} {p['n_err']:x}\n"
+        for p in core.core_pixels(words, fmt)
+    )
+    return spans, pixels
+
+
+def write_vector_set(folder: Path = VECTOR_SET) -> None:
+    """Write the committed set (``make vectors``)."""
+    spans, pixels = vector_set_text()
+    folder.mkdir(parents=True, exist_ok=True)
+    (folder / "spans.hex").write_text(spans)
+    (folder / "pixels.hex").write_text(pixels)
+    print(f"wrote {folder}: {spans.count(chr(10))} span beats, {pixels.count(chr(10))} pixel beats")
+
+
+if __name__ == "__main__":
+    write_vector_set()

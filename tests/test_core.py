@@ -22,32 +22,11 @@ DEFAULT = METHODS["diffuse"]  # both paths: the highlight and the diffuse jobs
 
 
 def random_words(fmt: core.SpanFormat, count: int, seed: int, lengths=None) -> list[int]:
-    """Span beats with every field random in its range (``lengths``: the pixels of each)."""
-    rng = np.random.default_rng(seed)
-    g, s = fmt.cfg.gouraud, fmt.cfg.specular
-    z_lo, z_hi = s.z_format.lo, s.z_format.hi
-    words = []
-    for i in range(count):
-        n_px = int(lengths[i]) if lengths is not None else int(rng.integers(1, 24))
-        row = {
-            "x": int(rng.integers(0, (1 << fmt.x_width) - n_px + 1)),
-            "y": int(rng.integers(0, 1 << fmt.y_width)),
-            "l": n_px - 1,
-            "spec": int(rng.integers(0, 2)),
-            "diff": int(rng.integers(0, 2)),
-            "c": int(rng.integers(0, 1 << s.c_width)),
-            "dz": int(rng.integers(z_lo, z_hi + 1) >> int(rng.integers(0, 16))),
-            "z0": int(rng.integers(z_lo, z_hi + 1)),
-            "n": int(rng.integers(0, 1 << core.N_WIDTH)),  # 0 and 1001.. are refused
-            "diff_dz": int(rng.integers(z_lo, z_hi + 1) >> int(rng.integers(0, 16))),
-            "diff_z0": int(rng.integers(z_lo, z_hi + 1)),
-        }
-        for c in range(core.CHANNELS):
-            row[f"i_start{c}"] = int(rng.integers(0, 1 << g.i_width))
-            row[f"i_end{c}"] = int(rng.integers(0, 1 << g.i_width))
-            row[f"diff_c{c}"] = int(rng.integers(0, 1 << s.c_width))
-        words.append(core.pack(fmt.layout(), row))
-    return words
+    """Span beats with every field random in its range (``lengths``: the pixels of each; by
+    default 1..23), from ``core_run.random_spans``."""
+    if lengths is None:
+        lengths = np.random.default_rng(seed + 1).integers(1, 24, count)
+    return core_run.random_spans(fmt, lengths, seed)
 
 
 # ------------------------------------------------------------------------------ the formats
@@ -346,3 +325,30 @@ def test_a_bad_rom_image_stops_the_core_naming_file_and_field(sim, damage, tmp_p
         core_run.run_words(words, fmt, {**params, "RECIP_ROM_FILE": str(path)}, sim=sim,
                            tag=f"core_rom_{sim}_{damage}")  # fmt: skip
     assert re.search(says, str(err.value)), str(err.value)
+
+
+def test_the_committed_vector_set_is_the_model_s_and_replays_without_python(tmp_path):
+    """sim/vectors/core_default/ (make vectors): the span beats and the model's pixel beats as
+    the generator writes them now; the bench alone (+EXPECT_FILE) passes on them and fails on a
+    pixel changed."""
+    import subprocess
+
+    spans, pixels = core_run.vector_set_text()
+    assert (core_run.VECTOR_SET / "spans.hex").read_text() == spans
+    assert (core_run.VECTOR_SET / "pixels.hex").read_text() == pixels
+    command, folder, _ = core_run.build(core_run.parameters(DEFAULT), "icarus")
+    n_spans, n_pixels = spans.count("\n"), pixels.count("\n")
+    bad = tmp_path / "bad.hex"
+    lines = pixels.splitlines()
+    lines[7] = ("0" if lines[7][0] != "0" else "1") + lines[7][1:]
+    bad.write_text("\n".join(lines) + "\n")
+    for expect, ok in ((core_run.VECTOR_SET / "pixels.hex", True), (bad, False)):
+        ran = subprocess.run(
+            [*command, f"+SPAN_FILE={core_run.VECTOR_SET / 'spans.hex'}", f"+EXPECT_FILE={expect}",
+             f"+OUT_FILE={tmp_path / 'out.hex'}", f"+SPANS={n_spans}", f"+PIXELS={n_pixels}",
+             "+STALL_PCT=25", "+IDLE_PCT=25"],
+            capture_output=True, text=True, cwd=folder, timeout=600,
+        )  # fmt: skip
+        assert (ran.returncode == 0) == ok, ran.stdout + ran.stderr
+        if not ok:
+            assert "tb_shading_core: pixel 7: RTL" in ran.stdout

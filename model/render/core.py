@@ -45,13 +45,13 @@ Y_WIDTH = 12
 OUT_MAX = 255
 """RGB888: each channel saturates at 255 (``pipeline.assemble``'s ``out_max``)."""
 
-SPAN_PIPE = 5
+SPAN_PIPE = 6
 """Clocks from the cycle a span beat is taken to the cycle its first pixel is issued: stage A
-(the input register, ROM 9, the reciprocal ROM, decoder 10), stages B, C, D (the divider's
-operands registered, the two halves of its product, their sum), the span register."""
-PIXEL_PIPE = 10
+(the input register, ROM 9, the reciprocal ROM, decoder 10), stages B..E (the divider's
+operands registered, four partial products, two sums), the span register."""
+PIXEL_PIPE = 12
 """Clocks from a pixel issued (in S0, the span register's accumulators) to its beat on
-``m_axis``: the specular stages S1..S8, the sum into the output FIFO, its output register."""
+``m_axis``: the specular stages S1..S10, the sum into the output FIFO, its output register."""
 LATENCY = SPAN_PIPE + PIXEL_PIPE
 """Clocks from the cycle the first span beat is taken to the cycle of the first pixel beat."""
 

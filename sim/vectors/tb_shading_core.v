@@ -5,7 +5,10 @@
 // tlast, tuser as hex), the AXI4-Stream rules checked on both ports in every cycle (tvalid
 // held until tready, tdata/tlast/tuser stable while stalled), and the clocks counted from the
 // first span beat taken to the last pixel beat.  Python compares the beats with the model
-// (model.render.core.core_pixels).  Plain Verilog-2005: Icarus and verilator --binary.
+// (model.render.core.core_pixels); with +EXPECT_FILE (the model's beats, the same format) the
+// bench compares them itself and exits non-zero on any mismatch (the FuseSoC sim target and the
+// committed set sim/vectors/core_default/, no Python).  Plain Verilog-2005, for Icarus and
+// for Verilator's --binary mode.
 
 `resetall
 `timescale 1ns / 1ps
@@ -101,6 +104,13 @@ shading_core #(
 reg [SPAN_WIDTH-1:0] spans [0:MAX_SPANS-1];
 reg [1023:0] span_file;
 reg [1023:0] out_file;
+reg [1023:0] expect_file;
+integer expect_fd;
+integer mismatches;
+integer scanned;
+reg [PIX_WIDTH-1:0] want_data;
+reg want_last;
+reg want_user;
 integer n_spans;
 integer n_pixels;
 integer idle_pct;
@@ -147,10 +157,28 @@ initial begin
         $display("tb_shading_core: +SPANS=%0d is out of range: legal is 1..%0d", n_spans,
                  MAX_SPANS);
         $fflush;
+`ifdef __ICARUS__
+        $fatal(1, "tb_shading_core: FAIL");
+`else
         $stop;
+`endif
     end
     $readmemh(span_file, spans, 0, n_spans - 1);
     fd = $fopen(out_file, "w");
+    expect_fd = 0;
+    mismatches = 0;
+    if ($value$plusargs("EXPECT_FILE=%s", expect_file)) begin
+        expect_fd = $fopen(expect_file, "r");
+        if (expect_fd == 0) begin
+            $display("tb_shading_core: +EXPECT_FILE=%0s cannot be read", expect_file);
+            $fflush;
+`ifdef __ICARUS__
+            $fatal(1, "tb_shading_core: FAIL");
+`else
+            $stop;
+`endif
+        end
+    end
     lfsr = seed ^ 32'h5eed1234;
     if (lfsr == 32'd0) lfsr = 32'h1;
     sent = 0;
@@ -186,6 +214,18 @@ always @(posedge clk) begin
         end
         if (m_tvalid && m_tready) begin
             $fwrite(fd, "%h %h %h\n", m_tdata, m_tlast, m_tuser);
+            if (expect_fd != 0) begin
+                scanned = $fscanf(expect_fd, "%h %h %h\n", want_data, want_last, want_user);
+                if (scanned != 3 || {want_user, want_last, want_data}
+                                    !== {m_tuser, m_tlast, m_tdata}) begin
+                    if (mismatches < 10) begin
+                        $display("tb_shading_core: pixel %0d: RTL %h %h %h, model %h %h %h",
+                                 received, m_tdata, m_tlast, m_tuser, want_data, want_last,
+                                 want_user);
+                    end
+                    mismatches = mismatches + 1;
+                end
+            end
             received = received + 1;
             last_out = cycle;
             held_valid = 1'b0;
@@ -214,8 +254,18 @@ always @(posedge clk) begin
             $fclose(fd);
             $display("DONE spans=%0d pixels=%0d first_in=%0d last_out=%0d cycles=%0d stalls=%0d errors=%0d",
                      sent, received, first_in, last_out, last_out - first_in + 1, stalls,
-                     errors);
+                     errors + mismatches);
             $fflush;
+            if (errors + mismatches != 0 || received != n_pixels) begin
+                $display("tb_shading_core: FAIL: %0d protocol errors, %0d mismatches, %0d of %0d pixels",
+                         errors, mismatches, received, n_pixels);
+                $fflush;
+`ifdef __ICARUS__
+                $fatal(1, "tb_shading_core: FAIL");
+`else
+                $stop;
+`endif
+            end
             $finish;
         end
     end
