@@ -153,6 +153,7 @@ formal: setup
 .PHONY: vectors vectors-sim gate
 vectors: setup
 	$(PY) -m sim.vector_sets
+	$(PY) -m sim.core_run
 
 vectors-sim: tools
 	@for s in sim/vectors/*/params.txt; do \
