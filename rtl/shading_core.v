@@ -608,14 +608,22 @@ wire [ROM12_ADDR-1:0]   spec_addr;
 wire [ROM12_ADDR-1:0]   diff_addr;
 wire [ROM_DATA_BITS-1:0] spec_q;
 wire [ROM_DATA_BITS-1:0] diff_q;
+// verilator lint_off UNUSEDSIGNAL
+wire [ROM_DATA_BITS-1:0] spec_unused_b;  // the ROMs have one port each
+wire [ROM_DATA_BITS-1:0] diff_unused_b;
+// verilator lint_on UNUSEDSIGNAL
 
 generate
-    if (SPECULAR != 0 || DIFFUSE != 0) begin : g_rom12
+    // ROM 12: the highlight's port reads every table; the diffuse path reads table 0 only (n = 1
+    // is in the first k range), from a ROM of that table alone, so that neither read runs
+    // through a multiplexer over every table's block RAMs
+    if (SPECULAR != 0) begin : g_rom12
         shading_rom #(
             .WIDTH(ROM_DATA_BITS),
             .DEPTH(1 << ROM12_ADDR),
             .ADDR_BITS(ROM12_ADDR),
-            .PORTS(2),
+            .PORTS(1),
+            .READ_REGS(2),
             .FILE(COS_ROM_FILE),
             .NAME("COS_ROM_FILE"),
             .MAGIC("SR12"),
@@ -630,13 +638,43 @@ generate
             .rd_en_a(1'b1),
             .addr_a(spec_addr),
             .q_a(spec_q),
-            .rd_en_b(1'b1),
-            .addr_b(diff_addr),
-            .q_b(diff_q)
+            .rd_en_b(1'b0),
+            .addr_b({ROM12_ADDR{1'b0}}),
+            .q_b(spec_unused_b)
         );
     end else begin : g_no_rom12
         assign spec_q = {ROM_DATA_BITS{1'b0}};
+        assign spec_unused_b = {ROM_DATA_BITS{1'b0}};
+    end
+    if (DIFFUSE != 0) begin : g_rom12_diffuse
+        shading_rom #(
+            .WIDTH(ROM_DATA_BITS),
+            .DEPTH(1 << ROM_ADDR_BITS),
+            .IMAGE_DEPTH(1 << ROM12_ADDR),
+            .ADDR_BITS(ROM_ADDR_BITS),
+            .PORTS(1),
+            .READ_REGS(2),
+            .FILE(COS_ROM_FILE),
+            .NAME("COS_ROM_FILE"),
+            .MAGIC("SR12"),
+            .NUM_FIELDS(7),
+            .FIELDS(fields(ROM_ADDR_BITS, ROM_DATA_BITS, NUM_TABLES, K0, K1, K2, K3, 0, 0, 0,
+                           0, 0)),
+            .FIELD_NAMES({"ROM_ADDR_BITS   ", "ROM_DATA_BITS   ", "NUM_TABLES      ",
+                          "K0              ", "K1              ", "K2              ",
+                          "K3              ", {(8*16*5){1'b0}}})
+        ) u_rom12_diffuse (
+            .clk(clk),
+            .rd_en_a(1'b1),
+            .addr_a(diff_addr[ROM_ADDR_BITS-1:0]),
+            .q_a(diff_q),
+            .rd_en_b(1'b0),
+            .addr_b({ROM_ADDR_BITS{1'b0}}),
+            .q_b(diff_unused_b)
+        );
+    end else begin : g_no_rom12_diffuse
         assign diff_q = {ROM_DATA_BITS{1'b0}};
+        assign diff_unused_b = {ROM_DATA_BITS{1'b0}};
     end
 
     if (SPECULAR != 0) begin : g_highlight
@@ -750,7 +788,7 @@ shading_axis_fifo #(
 
 // Span-beat bits past the fields, and the fields a path this core was built without
 // verilator lint_off UNUSEDSIGNAL
-wire unused_in = &{1'b0, s_axis_tdata, a_diff_q, dec_index, n_off};
+wire unused_in = &{1'b0, s_axis_tdata, a_diff_q, dec_index, n_off, diff_addr};
 // verilator lint_on UNUSEDSIGNAL
 
 endmodule

@@ -4,7 +4,8 @@
  * synchronous read ports, and the image check in simulation.  The shading core's three ROMs
  * (the divider's reciprocals, the specular unit's ROM 9 and ROM 12) are instances of it.
  *
- * Image: DEPTH data words of WIDTH bits, then the check fields, each a 32-bit value in CHUNKS
+ * Image: IMAGE_DEPTH data words of WIDTH bits (the ROM keeps the first DEPTH of them: e.g.
+ * one table of several), then the check fields, each a 32-bit value in CHUNKS
  * words of WIDTH bits, low bits first: MAGIC, depth, width, the NUM_FIELDS configuration values
  * of FIELDS, the FNV-1a checksum of the data words (over 32-bit pieces, low first) and "END!".
  * At time 0 the whole image is read word by word (read_word: not by $readmemh, whose
@@ -16,11 +17,19 @@
  * with a non-zero exit status: $fatal under Icarus, $stop under other simulators (Verilator
  * exits with an error; $fatal is SystemVerilog, which Verilator's 1364-2005 mode refuses).
  * Synthesis (SYNTHESIS defined, as Yosys does) loads the data words only: the check words fall
- * past the end of the array, which Yosys drops, so the ROM stays DEPTH words of block RAM.
+ * past the end of the array (and so do the data words past DEPTH), which Yosys drops, so the
+ * ROM stays DEPTH words of block RAM.
  *
  * Ports: rd_en_a / addr_a -> q_a (q_a <= rom[addr_a] at a rising edge with rd_en_a); port B
  * the same when PORTS = 2 (its outputs are 0 when PORTS = 1).  The read registers have no
  * reset, so that they map onto a block RAM's output registers.
+ *
+ * READ_REGS = 2 (port A only): the word read at an edge with rd_en_a is registered again in the
+ * fabric at the next one, so that no logic follows a block RAM's slow output in the same clock.
+ * Synthesis then splits the ROM into banks of 2^BANK_BITS words (one block RAM each on most
+ * parts: the read needs no multiplexer between block RAMs before its first register); the
+ * banks' words, registered, are selected by the address's high bits two clocks later.  In
+ * simulation it is one memory with the same two clocks of latency.
  */
 
 `resetall
@@ -32,10 +41,16 @@ module shading_rom #(
     parameter WIDTH = 16,
     // Data words
     parameter DEPTH = 1024,
+    // Data words in the image (DEPTH or more: the ROM keeps the first DEPTH)
+    parameter IMAGE_DEPTH = DEPTH,
     // Address bits (2^ADDR_BITS >= DEPTH)
     parameter ADDR_BITS = 10,
     // Read ports, 1 or 2
     parameter PORTS = 1,
+    // Clocks from an address to its word on q_a: 1, or 2 (registered again in the fabric)
+    parameter READ_REGS = 1,
+    // READ_REGS = 2: address bits of a bank in synthesis (the ROM in banks of 2^BANK_BITS words)
+    parameter BANK_BITS = 10,
     // The $readmemh image
     parameter FILE = "rom.hex",
     // What the ROM is, for the messages
@@ -66,11 +81,20 @@ generate
     if (DEPTH < 1 || DEPTH > (1 << ADDR_BITS)) begin : g_check_depth
         shading_rom_PARAMETER_ERROR_DEPTH_must_be_1_to_2_pow_ADDR_BITS u_error ();
     end
+    if (IMAGE_DEPTH < DEPTH) begin : g_check_image_depth
+        shading_rom_PARAMETER_ERROR_IMAGE_DEPTH_must_be_at_least_DEPTH u_error ();
+    end
     if (ADDR_BITS < 1 || ADDR_BITS > 20) begin : g_check_addr_bits
         shading_rom_PARAMETER_ERROR_ADDR_BITS_must_be_1_to_20 u_error ();
     end
     if (PORTS != 1 && PORTS != 2) begin : g_check_ports
         shading_rom_PARAMETER_ERROR_PORTS_must_be_1_or_2 u_error ();
+    end
+    if (READ_REGS != 1 && !(READ_REGS == 2 && PORTS == 1)) begin : g_check_read_regs
+        shading_rom_PARAMETER_ERROR_READ_REGS_must_be_1_or_2_with_one_port u_error ();
+    end
+    if (BANK_BITS < 1 || BANK_BITS > 20) begin : g_check_bank_bits
+        shading_rom_PARAMETER_ERROR_BANK_BITS_must_be_1_to_20 u_error ();
     end
     if (NUM_FIELDS < 0 || NUM_FIELDS > 12) begin : g_check_num_fields
         shading_rom_PARAMETER_ERROR_NUM_FIELDS_must_be_0_to_12 u_error ();
@@ -88,7 +112,7 @@ end
 // ---------------------------------------------------------------- ROM image check (simulation)
 localparam CHUNKS = (32 + WIDTH - 1) / WIDTH;
 localparam TOTAL_FIELDS = NUM_FIELDS + 5;
-localparam WORDS = DEPTH + TOTAL_FIELDS * CHUNKS;
+localparam WORDS = IMAGE_DEPTH + TOTAL_FIELDS * CHUNKS;
 
 reg [WIDTH-1:0] image [0:WORDS-1];
 
@@ -121,7 +145,7 @@ function [31:0] expected(input integer f, input [31:0] sum);
         if (f == 0) begin
             expected = MAGIC;
         end else if (f == 1) begin
-            expected = DEPTH;
+            expected = IMAGE_DEPTH;
         end else if (f == 2) begin
             expected = WIDTH;
         end else if (f < 3 + NUM_FIELDS) begin
@@ -187,14 +211,14 @@ initial begin
             $write("%m: %0s \"%0s\": word %0d is undefined: the file is missing or ", NAME,
                    FILE, chk_i);
             $write("unreadable, has fewer than the %0d words of this image (%0d data + ",
-                   WORDS, DEPTH);
+                   WORDS, IMAGE_DEPTH);
             $display("%0d check words of %0d bits) or a non-hex word there; regenerate it "
                      , TOTAL_FIELDS * CHUNKS, WIDTH, "with make roms");
             chk_bad = 1'b1;
         end
     end
     chk_sum = 32'h811c9dc5;
-    for (chk_i = 0; chk_i < DEPTH; chk_i = chk_i + 1) begin
+    for (chk_i = 0; chk_i < IMAGE_DEPTH; chk_i = chk_i + 1) begin
         chk_word = {32'd0, image[chk_i]};
         for (chk_p = 0; chk_p < WIDTH; chk_p = chk_p + 32) begin
             chk_sum = (chk_sum ^ chk_word[chk_p +: 32]) * 32'h01000193;
@@ -202,7 +226,7 @@ initial begin
     end
     for (chk_i = 0; chk_i < TOTAL_FIELDS; chk_i = chk_i + 1) begin
         for (chk_p = 0; chk_p < CHUNKS; chk_p = chk_p + 1) begin
-            chk_found[chk_p*WIDTH +: WIDTH] = image[DEPTH + chk_i * CHUNKS + chk_p];
+            chk_found[chk_p*WIDTH +: WIDTH] = image[IMAGE_DEPTH + chk_i * CHUNKS + chk_p];
         end
         chk_want = expected(chk_i, chk_sum);
         if (!chk_bad && chk_found[31:0] !== chk_want) begin
@@ -234,12 +258,62 @@ initial begin
 end
 `endif
 
-always @(posedge clk) begin
-    if (rd_en_a) begin
-        q_a_reg <= rom[addr_a];
+`ifdef SYNTHESIS
+localparam BANKS = (ADDR_BITS > BANK_BITS) ? (1 << (ADDR_BITS - BANK_BITS)) : 1;
+localparam HIGH_BITS = (ADDR_BITS > BANK_BITS) ? ADDR_BITS - BANK_BITS : 1;
+`endif
+
+generate
+    if (READ_REGS == 1) begin : g_read1
+        always @(posedge clk) begin
+            if (rd_en_a) begin
+                q_a_reg <= rom[addr_a];
+            end
+        end
+        assign q_a = q_a_reg;
+`ifdef SYNTHESIS
+    end else if (BANKS > 1) begin : g_banked
+        // One memory per bank (each reads only its own addresses: synthesis keeps those
+        // words), its word registered in the fabric, the bank chosen after both registers
+        reg [HIGH_BITS-1:0] high1_reg;
+        reg [HIGH_BITS-1:0] high2_reg;
+        wire [BANKS*WIDTH-1:0] words;
+        genvar b;
+        for (b = 0; b < BANKS; b = b + 1) begin : g_bank
+            reg [WIDTH-1:0] mem [0:DEPTH-1];
+            reg [WIDTH-1:0] q1_reg;
+            reg [WIDTH-1:0] q2_reg;
+            wire [ADDR_BITS-1:0] addr = {b[HIGH_BITS-1:0], addr_a[BANK_BITS-1:0]};
+            initial begin
+                $readmemh(FILE, mem);
+            end
+            always @(posedge clk) begin
+                if (rd_en_a) begin
+                    q1_reg <= mem[addr];
+                    q2_reg <= q1_reg;
+                end
+            end
+            assign words[b*WIDTH +: WIDTH] = q2_reg;
+        end
+        always @(posedge clk) begin
+            if (rd_en_a) begin
+                high1_reg <= addr_a[ADDR_BITS-1:BANK_BITS];
+                high2_reg <= high1_reg;
+            end
+        end
+        assign q_a = words[high2_reg*WIDTH +: WIDTH];
+`endif
+    end else begin : g_read2
+        reg [WIDTH-1:0] q2_reg;
+        always @(posedge clk) begin
+            if (rd_en_a) begin
+                q_a_reg <= rom[addr_a];
+                q2_reg <= q_a_reg;
+            end
+        end
+        assign q_a = q2_reg;
     end
-end
-assign q_a = q_a_reg;
+endgenerate
 
 generate
     if (PORTS == 2) begin : g_port_b

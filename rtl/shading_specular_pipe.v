@@ -10,9 +10,9 @@
  * c_in of the same pixel); S1 |zeta| without its carry (sign, one's complement, "too big"),
  * S2 |zeta| saturated to MAG_INT_BITS integer bits, S3 and S4 multiplier 11 (x a: the two
  * halves of |zeta| times a, each one 18 x 18 multiplier of an FPGA, then their sum), S5 the
- * address rounded, S6 the ROM-12 read (outside: rom_addr out, rom_q in, the ROM's read
- * register, a block RAM's output) and the zero flag (>= pi/2, or zero_in), S7 the word in a
- * register of the fabric, S8 the gated word, S9 multiplier 13 (x C), S10 rounding and
+ * address rounded, S6 and S7 the ROM-12 read (outside: rom_addr out at S5, rom_q in at S7, a
+ * ROM of two read registers: the block RAM's and one in the fabric, shading_rom READ_REGS = 2)
+ * beside the zero flag (>= pi/2, or zero_in), S8 the gated word, S9 multiplier 13 (x C), S10 rounding and
  * saturation: intensity holds the pixel that was in S0 ten clocks before (the unit's S3 and
  * S5 each take two stages here, so that no multiplier's carry chain and no block RAM's output
  * shares a clock with other logic).  The data
@@ -108,7 +108,6 @@ reg [PROD_WIDTH-1:0]       prod_reg;
 reg [RND_WIDTH-1:0]        addr_reg;
 reg                        zero_reg;
 reg                        zero2_reg;
-reg [ROM_DATA_BITS-1:0]    rom_q2_reg;
 reg [ROM_DATA_BITS-1:0]    rom_d_reg;
 reg [CHANNELS*OP_WIDTH-1:0] out_prod_reg;
 reg [CHANNELS*OUT_WIDTH-1:0] intensity_reg;
@@ -146,9 +145,8 @@ always @(posedge clk) begin
     prod_reg <= {{MH{1'b0}}, plo_reg} + ({{ML{1'b0}}, phi_reg} << ML);
     addr_reg <= prod_rnd[PROD_WIDTH:SHIFT];
     zero_reg <= rom_ovf || zin_reg[4];
-    rom_q2_reg <= rom_q;
     zero2_reg <= zero_reg;
-    rom_d_reg <= zero2_reg ? {ROM_DATA_BITS{1'b0}} : rom_q2_reg;
+    rom_d_reg <= zero2_reg ? {ROM_DATA_BITS{1'b0}} : rom_q;
 end
 
 // S8 -> S9 -> S10 per channel: multiplier 13, rounding, saturation
