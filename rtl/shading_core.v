@@ -614,9 +614,10 @@ wire [ROM_DATA_BITS-1:0] diff_unused_b;
 // verilator lint_on UNUSEDSIGNAL
 
 generate
-    // ROM 12: the highlight's port reads every table; the diffuse path reads table 0 only (n = 1
-    // is in the first k range), from a ROM of that table alone, so that neither read runs
-    // through a multiplexer over every table's block RAMs
+    // ROM 12: the highlight's port reads every table (a bank per table in synthesis, its word
+    // registered before the table is chosen); the diffuse path reads table 0 only (n = 1 is in
+    // the first k range), from a ROM of that table alone: neither read runs through a
+    // multiplexer over every table's block RAMs before its first register
     if (SPECULAR != 0) begin : g_rom12
         shading_rom #(
             .WIDTH(ROM_DATA_BITS),
@@ -624,6 +625,7 @@ generate
             .ADDR_BITS(ROM12_ADDR),
             .PORTS(1),
             .READ_REGS(2),
+            .BANK_BITS(ROM_ADDR_BITS),  // a bank per table
             .FILE(COS_ROM_FILE),
             .NAME("COS_ROM_FILE"),
             .MAGIC("SR12"),

@@ -334,3 +334,60 @@ def write_vector_set(folder: Path = VECTOR_SET) -> None:
 
 if __name__ == "__main__":
     write_vector_set()
+
+
+@dataclass
+class SetupRate:
+    """The host's side: span beats a frame needs and how fast the model's set-up makes them."""
+
+    spans: int
+    pixels: int
+    seconds: float  # best of the timed runs: rasterised spans to packed span beats
+    setup_seconds: float  # of which pipeline.build_jobs (the float set-up, quantised)
+
+    @property
+    def spans_per_second(self) -> float:
+        return self.spans / max(self.seconds, 1e-12)
+
+    def needed_per_second(self, px_per_clock: float, fmax_mhz: float) -> float:
+        """Span beats per second that keep the core at ``px_per_clock`` at ``fmax_mhz``."""
+        return px_per_clock * fmax_mhz * 1e6 * self.spans / max(self.pixels, 1)
+
+
+def setup_rate(scene_name="teapot", size: int = 256, method="hybrid", repeats: int = 3):
+    """Time the model's per-span set-up on one CPU core (numba's threads set to one): every
+    object's spans through ``pipeline.build_jobs`` (the float set-up and quantisation) and
+    ``core.span_beats`` (packing), the rasterising left out; best of ``repeats`` after one
+    warm-up run."""
+    import numba
+
+    from model.render import pipeline, raster, scenefile, shade
+
+    cfg = method if isinstance(method, PipelineConfig) else pipeline.METHODS[method]
+    frame = raster.rasterise(scenefile.builtin_scene(scene_name, size, size))
+    fmt = core.SpanFormat(cfg)
+    collected = []
+
+    def record(spans, ctx):
+        collected.append((spans, ctx))
+        return __import__("numpy").zeros((spans.n_pixels, core.CHANNELS), dtype="uint8")
+
+    shade.shade(frame, record)
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)
+    try:
+        best, best_setup = float("inf"), float("inf")
+        for run in range(repeats + 1):
+            t0 = time.perf_counter()
+            count, setup = 0, 0.0
+            for spans, ctx in collected:
+                t1 = time.perf_counter()
+                jobs = pipeline.build_jobs(spans, ctx, cfg)
+                setup += time.perf_counter() - t1
+                count += len(core.span_beats(jobs, spans.x_start, spans.y, fmt))
+            if run:
+                best = min(best, time.perf_counter() - t0)
+                best_setup = min(best_setup, setup)
+    finally:
+        numba.set_num_threads(threads)
+    return SetupRate(count, sum(s.n_pixels for s, _ in collected), best, best_setup)

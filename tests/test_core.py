@@ -352,3 +352,38 @@ def test_the_committed_vector_set_is_the_model_s_and_replays_without_python(tmp_
         assert (ran.returncode == 0) == ok, ran.stdout + ran.stderr
         if not ok:
             assert "tb_shading_core: pixel 7: RTL" in ran.stdout
+
+
+def _waves(text: str) -> dict[str, str]:
+    """Each signal's wave of the WaveDrom diagram in ``text``, one character a cycle, '.'
+    replaced by the value it repeats."""
+    import json
+
+    block = text.split("```wavedrom\n", 1)[1].split("```", 1)[0]
+    out = {}
+    for sig in json.loads(block)["signal"]:
+        chars, last = [], "x"
+        for ch in sig["wave"]:
+            last = last if ch == "." else ch
+            chars.append(last)
+        out[sig["name"]] = "".join(chars)
+    return out
+
+
+def test_the_timing_diagram_is_the_core_s_timing():
+    """docs/core.md's diagram: two span beats (two pixels, one pixel) taken in cycles 1 and 2,
+    the pixel beats from cycle 1 + LATENCY, tlast on each span's last; and the stream bench
+    measures the same clocks for the same beats."""
+    from pathlib import Path
+
+    w = _waves((Path(__file__).resolve().parents[1] / "docs" / "core.md").read_text())
+    taken = [i for i, (v, r) in enumerate(zip(w["s_axis_tvalid"], w["s_axis_tready"],
+                                               strict=True)) if v == r == "1"]  # fmt: skip
+    out = [i for i, (v, r) in enumerate(zip(w["m_axis_tvalid"], w["m_axis_tready"],
+                                             strict=True)) if v == r == "1"]  # fmt: skip
+    assert taken == [1, 2] and out == [1 + core.LATENCY + k for k in range(3)]
+    assert [i for i in out if w["m_axis_tlast"][i] == "1"] == [out[1], out[2]]
+    fmt = core.SpanFormat(DEFAULT)
+    words = random_words(fmt, 2, seed=4, lengths=[2, 1])
+    r = core_run.run_words(words, fmt, core_run.parameters(DEFAULT), tag="core_wave")
+    assert r.mismatches == [] and r.cycles == out[-1] - taken[0] + 1
