@@ -13,7 +13,7 @@ import hashlib
 import numpy as np
 import pytest
 
-from model.render import pipeline, scenefile
+from model.render import core, pipeline, scenefile
 from model.study import trade
 from model.units import divider, gouraud, specular
 
@@ -149,6 +149,13 @@ def test_sweep_on_dask_caches_and_resumes(tmp_path):
     assert r1["line_drift_levels"] > 10 * r0["line_drift_levels"]
     rom_bits = divider.DEFAULT.rom_bits + specular.DEFAULT.rom_bits  # one copy of every ROM
     assert r0["table_bits"] == rom_bits and r0["epicentre_worst_n"] == 3
+    # The throughput is the shading core's: its model's clocks (LATENCY + pixels), whatever
+    # the knobs; the parallel-units estimate stays a column.
+    for r in (r0, r1):
+        pixels = r["pixels_shaded"]
+        assert r["core_clocks"] == core.core_cycles(pixels) == core.LATENCY + pixels
+        assert r["px_per_clock_core"] == pytest.approx(r["pixels_shaded"] / r["core_clocks"])
+        assert r["frame_clocks"] == trade.frame_clocks(r)
 
     # Resumed: everything from the cache, nothing evaluated or rewritten.
     before = _mtimes(cache)
@@ -191,6 +198,16 @@ def test_cache_ignores_other_or_broken_files(tmp_path):
     assert trade.load_cached(tmp_path, q) is None
     trade.cache_path(tmp_path, p).write_text('{"version": ')
     assert trade.load_cached(tmp_path, p) is None
+    # An entry written before the core's figures existed is not mixed in: named, evaluated again.
+    old = {k: v for k, v in result.items() if k not in ("core_clocks", "px_per_clock_core")}
+    trade.store(tmp_path, p, old)
+    assert trade.read_cached(tmp_path, p) == (None, "field 'core_clocks' is missing")
+    calls = CALLS
+    calls.clear()
+    swept = trade.run_sweep([p], tmp_path, workers=0, progress=False, evaluate_fn=counting_evaluate)
+    assert (swept.cached, swept.evaluated, calls) == (0, 1, [p.key])
+    assert swept.recomputed == {p.key: "field 'core_clocks' is missing"}
+    assert trade.load_cached(tmp_path, p)["core_clocks"] > core.LATENCY
 
 
 # ------------------------------------------------------------------------------ analysis
@@ -409,7 +426,7 @@ def _csv_rows(path):
 def test_synthesised_cost_columns(tmp_path, monkeypatch, capsys):
     """--part: every unit the configuration uses synthesised once (a real run on the iCE40
     HX8K, a few seconds); LUT, FF, BRAM, DSP the units' sums, Fmax the slowest unit's, Mpx/s =
-    px/clk x Fmax; --part none synthesises nothing."""
+    the shading core's px/clk x Fmax; --part none synthesises nothing."""
     from model.hw import synthesise
     from model.study.trade import hardware
 
@@ -429,7 +446,8 @@ def test_synthesised_cost_columns(tmp_path, monkeypatch, capsys):
             assert int(r[k]) == sum(getattr(u, k) for u in units)
         assert int(r["lut"]) > 0 and int(r["ff"]) > 0
         assert float(r["fmax_mhz"]) == pytest.approx(min(u.fmax_mhz for u in units))
-        expect = float(r["px_per_clock_parallel"]) * float(r["fmax_mhz"])
+        assert int(r["core_clocks"]) == core.core_cycles(int(r["pixels_shaded"]))
+        expect = float(r["px_per_clock_core"]) * float(r["fmax_mhz"])
         assert float(r["hw_mpx_per_s"]) == pytest.approx(expect)
     md = (tmp_path / "hw" / "results.md").read_text()
     assert "| LUT | FF | BRAM | DSP | Fmax MHz | hw Mpx/s |" in md and "on hx8k" in md
@@ -444,7 +462,7 @@ def test_synthesised_cost_columns(tmp_path, monkeypatch, capsys):
     (r,) = _csv_rows(tmp_path / "sw" / "results.csv")
     assert r["part"] == "none" and r["lut"] == "nan" and r["hw_mpx_per_s"] == "nan"
     assert not (tmp_path / "sw" / "pareto_lut.png").exists()
-    assert (tmp_path / "sw" / "pareto_throughput.png").is_file()  # against px/clk
+    assert (tmp_path / "sw" / "pareto_throughput.png").is_file()  # against the core's px/clk
 
 
 def _fitted_config(tmp_path):
@@ -498,7 +516,8 @@ def test_config_file_is_a_point_marked_on_every_plot(tmp_path, monkeypatch, caps
         [*_one_config("small", ["sphere"], 16), point], out / "cache", workers=0, progress=False
     )
     agg = trade.aggregate(swept.results)
-    for x in ("cycles", "table_bits", "px_per_clock_parallel"):
+    assert trade.analysis.throughput_axis(agg) == "px_per_clock_core"  # no synthesis
+    for x in ("cycles", "table_bits", "px_per_clock_core"):
         fig, ax = plt.subplots(figsize=(6, 4), dpi=100)
         trade.plot_pareto(
             [{**r, **dict.fromkeys(trade.HW_FIELDS[1:], np.nan), "part": "none"} for r in agg],

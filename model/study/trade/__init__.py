@@ -8,7 +8,7 @@ the Pareto fronts, where the default lies), ``outputs`` (CSV, markdown, plots) a
 (plot labels that do not collide);
 this module holds ``main`` (``python -m model trade``) and re-exports the names the tests and the
 command line use.  May import ``model.render.meshes``, ``model.study.report`` and the package's own
-modules.
+modules.  ``sweep`` imports ``model.render.core`` (the shading core's clocks per frame).
 
 A **trade point** (``TradePoint``) is a scene, a resolution and one value per knob; every knob is
 a field of one unit's configuration (``TradePoint.to_pipeline_config``), so the sweep runs the
@@ -49,11 +49,19 @@ divider's figure that short scene spans cannot show); and cost:
   unit (``pipeline.unit_counters``; the diffuse jobs of ``diffuse_mode`` unit/adaptive, which
   run on the specular unit at n = 1, are ``diffuse_cycles``): the work, or the frame time of
   one unit of each kind in series.
-* ``frame_clocks`` (critical-path estimate): the units work in parallel on a stream of spans,
-  one divider and one Gouraud unit per colour channel (3 each) and one specular unit (white
-  highlight, and the diffuse jobs), so a frame takes at least ``max(divider_cycles / 3,
-  gouraud_cycles / 3, specular_cycles + diffuse_cycles)`` clocks (ideal buffering between
-  them).
+* ``core_clocks``: the frame's clocks through the streaming shading core (``rtl/shading_core.v``,
+  docs/core.md): ``core.core_cycles(pixels_shaded)`` = ``core.LATENCY`` (18) + pixels, one pixel
+  per clock with the span beats back to back and the output always ready.  These are the core
+  model's clocks, which the core's RTL matches clock for clock (its stream bench's measured
+  cycles equal them on every built-in scene and method: tests/test_core.py).  The count does
+  not depend on the knobs: the core makes one pixel per clock whatever P, N, the widths or the
+  modes.  ``px_per_clock_core`` = shaded pixels / ``core_clocks``: the throughput the study
+  reports (the Pareto front's axis and the hardware's Mpx/s).
+* ``frame_clocks`` (the earlier estimate, kept as a column; ``trade.frame_clocks`` is also what
+  ``model.study.adaptive`` counts): the units in parallel on a stream of spans, one divider and
+  one Gouraud unit per colour channel (3 each) and one specular unit (white highlight, and the
+  diffuse jobs), ``max(divider_cycles / 3, gouraud_cycles / 3, specular_cycles +
+  diffuse_cycles)`` clocks (ideal buffering between them).
 * ``px_per_clock`` = shaded pixels / ``cycles``; ``px_per_clock_parallel`` = shaded pixels /
   ``frame_clocks``.
 * ``table_bits``: one copy of every ROM (``report.table_bits``: divider reciprocals, and ROM 9 +
@@ -72,7 +80,8 @@ divider's figure that short scene spans cannot show); and cost:
 existing cluster (``--scheduler ADDRESS``).  Every result is written at once, atomically, to
 ``<out>/cache/<key>.json``; a rerun evaluates only the keys not in the cache, so an interrupted
 sweep resumes where it stopped.  A cache file that cannot be used (broken JSON, not an object, a
-missing field, a figure out of ``RESULT_RANGES``) is evaluated again, and the run says so.  One
+missing field, a figure out of ``RESULT_RANGES``: an entry written before ``core_clocks`` and
+``px_per_clock_core`` existed lacks them) is evaluated again, and the run says so.  One
 sweep at a time per cache: ``sweep_lock`` (``<out>/cache/sweep.lock``, ``fcntl.flock``) refuses a
 second one at once with the pid of the first (it does not wait).  ``main`` checks the output
 folders, the lock and the scheduler (``CONNECT_TIMEOUT``) before any work (``SetupError``).
@@ -80,7 +89,9 @@ folders, the lock and the scheduler (``CONNECT_TIMEOUT``) before any work (``Set
 **Synthesised cost** (``--part``, default ``hardware.DEFAULT_PART``; None/"none": skipped):
 every distinct unit configuration the sweep uses through ``model.hw.synthesise`` on the same
 Dask cluster (``hardware.run_synthesis``); per configuration LUT, FF, BRAM, DSP (the units'
-sums), Fmax (the slowest unit's) and ``hw_mpx_per_s`` = ``px_per_clock_parallel`` x Fmax.
+sums), Fmax (the slowest synthesised unit's: still the units', not the shading core's own, which
+is synthesised for its named configurations only, ``sim/synth_tops.py``) and ``hw_mpx_per_s`` =
+``px_per_clock_core`` x Fmax.  Without synthesis the throughput axis is ``px_per_clock_core``.
 
 **Configuration files** (``--config FILE``, ``ConfigPoint``): one more configuration each,
 labelled ``fit:<folder>`` or ``config:<stem>``, keyed by its content; a scene it refuses
@@ -164,6 +175,7 @@ from model.study.trade.sweep import (
     check_result,
     check_workers,
     connect,
+    core_clocks,
     evaluate,
     frame_clocks,
     load_cached,
@@ -211,6 +223,7 @@ __all__ = [
     "check_workers",
     "config_from_dict",
     "connect",
+    "core_clocks",
     "default_position",
     "eps_dominates",
     "evaluate",

@@ -5,7 +5,8 @@ Owns ``run_synthesis`` (one ``model.hw.synthesise`` run per distinct unit config
 sweep's Dask cluster or in this process, under a tqdm bar), ``unit_configs`` (the units a
 pipeline configuration uses), ``combine`` (one configuration's figures: the sum of its units' own
 LUTs, flip-flops, block RAMs and DSPs, and the slowest unit's Fmax), ``attach`` (those figures on
-every result of the configuration, with the hardware's Mpx/s) and the part option
+every result of the configuration, with the hardware's Mpx/s: the shading core's pixels per clock
+x that Fmax) and the part option
 (``DEFAULT_PART``, ``PART_CHOICES``, ``check_part``).  May import ``model.hw`` and
 ``model.render``.
 """
@@ -145,8 +146,9 @@ def attach(
     results: Sequence[dict], figures: Mapping[str, dict[str, object]], part: str | None
 ) -> list[dict]:
     """Every result with its configuration's hardware columns (``HW_FIELDS``): the synthesised
-    figures and ``hw_mpx_per_s`` = ``px_per_clock_parallel`` x Fmax; NaN (and ``part`` "none" or
-    the part) where there are none."""
+    figures and ``hw_mpx_per_s`` = ``px_per_clock_core`` (shaded pixels / the shading core's
+    clocks, ``sweep.core_clocks``) x Fmax (the slowest synthesised unit's, not the core's own);
+    NaN (and ``part`` "none" or the part) where there are none."""
     out = []
     for r in results:
         hw = figures.get(r["config_key"])
@@ -155,6 +157,6 @@ def attach(
             extra["part"] = part or "none"
         else:
             extra = {k: hw[k] for k in HW_FIELDS[:-1]}
-            extra["hw_mpx_per_s"] = r["px_per_clock_parallel"] * hw["fmax_mhz"]
+            extra["hw_mpx_per_s"] = r["px_per_clock_core"] * hw["fmax_mhz"]
         out.append({**r, **extra})
     return out

@@ -4,8 +4,8 @@
 Owns ``evaluate`` (one point's accuracy and cost figures, a flat dict) with its helpers, the
 cache (``cache_path``, ``RESULT_RANGES``, ``check_result``, ``read_cached``, ``load_cached``,
 ``store``) and the engine (``run_sweep``, ``SweepOutcome``, ``make_client``, ``connect``,
-``check_workers``, ``sweep_lock``).  May import ``model.units``, ``model.render``,
-``model.study`` ``metrics`` and ``report``, and ``model.study.trade.points``.
+``check_workers``, ``sweep_lock``).  May import ``model.units``, ``model.render`` (``core``: the
+shading core's clocks), ``model.study`` ``metrics`` and ``report``, ``model.study.trade.points``.
 """
 
 from __future__ import annotations
@@ -24,7 +24,7 @@ from pathlib import Path
 
 import numpy as np
 
-from model.render import pipeline, raster, reference, shade
+from model.render import core, pipeline, raster, reference, shade
 from model.render.scenefile import SceneSource
 from model.study import metrics, report
 from model.study.trade.points import CACHE_VERSION, TradePoint, point_scene
@@ -66,12 +66,19 @@ def epicentre_error(cfg: specular.SpecularConfig) -> tuple[float, int, float, fl
 
 
 def frame_clocks(counters: dict) -> int:
-    """A frame's clocks with the units in parallel (module ``trade`` docstring): one divider and
-    one Gouraud unit per colour channel, one specular unit taking the highlight jobs and then
-    the diffuse jobs (n = 1)."""
+    """A frame's clocks with the units in parallel, ideal buffering (module ``trade`` docstring):
+    one divider and one Gouraud unit per colour channel, one specular unit taking the highlight
+    jobs and then the diffuse jobs (n = 1); a column beside the core's ``core_clocks``."""
     div_c, gou_c = int(counters.get("divider_cycles", 0)), int(counters.get("gouraud_cycles", 0))
     spec_c = int(counters.get("specular_cycles", 0)) + int(counters.get("diffuse_cycles", 0))
     return max(math.ceil(div_c / CHANNELS), math.ceil(gou_c / CHANNELS), spec_c)
+
+
+def core_clocks(pixels: int) -> int:
+    """A frame's clocks through the shading core (docs/core.md, "Timing"):
+    ``core.core_cycles(pixels)`` = ``core.LATENCY`` + pixels, the count the RTL's stream bench
+    measures clock for clock (tests/test_core.py); 0 for a frame without pixels."""
+    return core.core_cycles(pixels) if pixels > 0 else 0
 
 
 def line_drift(cfg: pipeline.PipelineConfig) -> float:
@@ -130,7 +137,7 @@ def evaluate(
         int(k.get("diffuse_cycles", 0)),
     )
     cycles = div_c + gou_c + spec_c + diff_c
-    clocks = frame_clocks(k)
+    clocks, on_core = frame_clocks(k), core_clocks(pixels)
     s = cfg.specular
     if not cfg.uses_specular_unit or (s.n_first, s.n_last) != (1, specular.N_MAX):
         # No unit, or one that keeps only some n (a fitted one): no figure over n = 1..1000.
@@ -164,6 +171,8 @@ def evaluate(
         "frame_clocks": clocks,
         "px_per_clock": pixels / max(cycles, 1),
         "px_per_clock_parallel": pixels / max(clocks, 1),
+        "core_clocks": on_core,
+        "px_per_clock_core": pixels / max(on_core, 1),
         "table_bits": report.table_bits("trade", cfg),
         **hardware(cfg),
         "shade_seconds": best,
@@ -194,13 +203,15 @@ RESULT_RANGES: dict[str, tuple[str, float, float, bool]] = {
         ("pixels_shaded", "divider_cycles", "gouraud_cycles", "specular_cycles"), _COUNT
     ),
     **dict.fromkeys(("specular_pixels", "cycles", "frame_clocks", "table_bits"), _COUNT),
-    **dict.fromkeys(("diffuse_cycles", "diffuse_pixels"), _COUNT),
+    **dict.fromkeys(("diffuse_cycles", "diffuse_pixels", "core_clocks"), _COUNT),
     **dict.fromkeys(("adders", "multipliers", "mult_bits"), _COUNT),
     **dict.fromkeys(("px_per_clock", "px_per_clock_parallel", "shade_seconds"), _SIZE),
-    "sw_pixels_per_second": _SIZE,
+    **dict.fromkeys(("px_per_clock_core", "sw_pixels_per_second"), _SIZE),
 }
 """Every figure of a result (``evaluate``): kind, legal range, NaN allowed (no specular unit, no
-highlight pixel).  A cached result is used only when every one is present and legal."""
+highlight pixel).  A cached result is used only when every one is present and legal, so an entry
+written before a figure was added (``core_clocks``, ``px_per_clock_core``) is named and evaluated
+again, never mixed with the new ones."""
 
 
 def check_result(point: TradePoint, result) -> str | None:
