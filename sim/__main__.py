@@ -161,6 +161,12 @@ def build_parser() -> argparse.ArgumentParser:
         help="skip the shading core's runs (its stream bench over every built-in scene and method)",
     )
     p.add_argument(
+        "--core-only",
+        action="store_true",
+        help="the shading core's runs only (with --config: the scene through the core at that "
+        "configuration, as `shading fit` proves a fitted core), no units, no vector mode",
+    )
+    p.add_argument(
         "--vector-cycles",
         type=cycles_type,
         default=VECTOR_CYCLES,
@@ -304,7 +310,8 @@ def core_bench(source: scenefile.SceneSource, size: int, sim: str, config=None) 
             print(f"FAIL: {label} {method}: {exc}")
             return 1
         mname = method if isinstance(method, str) else "config"
-        fmax = core_fmax("diffuse" if mname in ("diffuse",) else "hybrid")
+        # a configuration of its own has no placed Fmax in docs/synth.json
+        fmax = None if mname == "config" else core_fmax(mname if mname == "diffuse" else "hybrid")
         mpx = f"{r.run.px_per_clock * fmax:7.1f}" if fmax else "     --"
         same = "equal" if r.equal and r.run.cycles == r.model_cycles else "DIFFERS"
         status |= 0 if same == "equal" else 1
@@ -432,14 +439,19 @@ def main(argv: list[str] | None = None) -> int:
             source = scenefile.mesh_source(args.mesh, args.up)
         except ValueError as exc:
             args.command_parser.error(f"argument --mesh: {' '.join(str(exc).split())}")
+    if args.core_only and (args.vectors_only or args.no_core):
+        args.command_parser.error(
+            "argument --core-only: not allowed with --vectors-only or --no-core"
+        )
     # one command today; the subcommand keeps room for more
-    status = 0 if args.vectors_only else bench(source, args.size, args.config)
+    units = not (args.vectors_only or args.core_only)
+    status = bench(source, args.size, args.config) if units else 0
     if not args.vectors_only and not args.no_core:
         from sim import runner
 
         sim, _ = scene_simulator(runner.simulator)
         status = max(status, core_bench(source, args.size, sim, args.config))
-    if not args.no_vectors:
+    if not args.no_vectors and not args.core_only:
         status = max(status, vector_bench(args.vector_cycles))
     return status
 

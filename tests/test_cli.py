@@ -222,6 +222,7 @@ def test_sim_command_line_from_another_folder(ball: Path, tmp_path: Path) -> Non
         (["--size", "4"], "argument --size: 4 is not allowed: must be an integer in 8..4096"),
         (["--vector-cycles", "5"], "argument --vector-cycles: 5 is not allowed: must be an"),
         (["--no-vectors", "--vectors-only"], "argument --vectors-only: not allowed with"),
+        (["--core-only", "--no-core"], "argument --core-only: not allowed with --vectors-only"),
     ]:
         run = sim("bench", *argv)
         assert run.returncode == 2 and run.stdout == "" and "Traceback" not in run.stderr

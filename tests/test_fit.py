@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: Apache-2.0
 """``shading fit``: the scene analysis, the decoder ranges it builds, a small fit end to end (the
 model meets the target on a fresh render, the bundle reads back, a second run comes from the
-cache), an unreachable target said plainly, and the fitted top level's range guard under Icarus
-(with a probe: the same check fails on a top whose guard is cut)."""
+cache), an unreachable target said plainly, the fitted core's RTL against the model on the scene,
+and the fitted top level's range guard on span beats under Icarus (with a probe: the same check
+fails on a top whose guard is cut)."""
 
 from __future__ import annotations
 
@@ -19,11 +20,9 @@ import pytest
 
 from model.cli import main
 from model.fit import analyse, cost, parallel, report, run, search, verilog
-from model.hw import wrapper
-from model.render import configfile, meshes, pipeline, raster, reference, scenefile, shade
+from model.render import configfile, core, meshes, pipeline, raster, reference, scenefile, shade
 from model.study import metrics
 from model.units import specular
-from tests.conftest import record_sim
 
 SIZE = 48
 
@@ -95,9 +94,18 @@ def test_bundle_files_and_report(sphere_fit) -> None:
     found, out = sphere_fit
     names = {p.relative_to(out).as_posix() for p in out.rglob("*") if p.is_file()}
     assert {"config.toml", "report.md", "fit.json", "error.png", "shading_fit_top.v"} <= names
-    assert {"shading_fit.core", "rtl/divider_shift.v", "rtl/gouraud_segment.v"} <= names
+    assert {"shading_fit.core", "shading_fit.f", verilog.LINT_WAIVER} <= names
+    rtl = [f"rtl/{p.name}" for p in verilog.core_sources()]
+    assert "rtl/shading_core.v" in rtl and set(rtl) <= names
+    for name in rtl:  # the core's RTL as the repository holds it
+        assert (out / name).read_bytes() == (verilog.RTL_DIR / name[4:]).read_bytes()
+    listed = [ln for ln in (out / "shading_fit.f").read_text().splitlines() if "//" not in ln]
+    assert listed == [*rtl, f"{verilog.TOP}.v"]
     roms = {n for n in names if n.startswith("rom/")}
-    assert roms == {f"rom/{r}" for r in verilog.rom_images(found.result.config, found.units)}
+    assert roms == {f"rom/{r}" for r in verilog.rom_images(found.result.config)}
+    top = (out / f"{verilog.TOP}.v").read_text()
+    for name, value in verilog.core_parameters(found.result.config).items():
+        assert f".{name}(" in top and str(value if isinstance(value, str) else int(value)) in top
     text = (out / "report.md").read_text()
     assert f"meets {found.target.describe()}" in text
     assert f"NMSE {found.result.comparison.nmse:.6f}" in text
@@ -153,129 +161,133 @@ def test_bad_arguments_are_refused(args: list[str], message: str, capsys) -> Non
 
 
 # ------------------------------------------------------------------------------------------------
-# the range guard of shading_fit_top, under Icarus
+# the range guard of shading_fit_top on span beats, under Icarus
+
+GUARD_BENCH = """`timescale 1ns/1ps
+module tb;
+reg clk = 0, rst_n = 0, s_axis_tvalid = 0;
+reg [WIDTH-1:0] s_axis_tdata = 0;
+wire s_axis_tready, m_axis_tlast, m_axis_tuser, m_axis_tvalid, range_err;
+wire [PIX-1:0] m_axis_tdata;
+reg [WIDTH-1:0] beats [0:CASES-1];
+integer i;
+shading_fit_top dut (.clk(clk), .rst_n(rst_n), .s_axis_tdata(s_axis_tdata),
+    .s_axis_tvalid(s_axis_tvalid), .s_axis_tready(s_axis_tready), .m_axis_tdata(m_axis_tdata),
+    .m_axis_tlast(m_axis_tlast), .m_axis_tuser(m_axis_tuser), .m_axis_tvalid(m_axis_tvalid),
+    .m_axis_tready(1'b1), .range_err(range_err));
+always #5 clk = ~clk;
+initial begin
+    $readmemh("beats.hex", beats);
+    for (i = 0; i < CASES; i = i + 1) begin
+        rst_n = 0; @(posedge clk); @(posedge clk); #1; rst_n = 1; @(posedge clk); #1;
+        $display("before %0d %0d", i, range_err);
+        s_axis_tdata = beats[i]; s_axis_tvalid = 1;
+        @(posedge clk); while (!s_axis_tready) @(posedge clk);
+        #1; s_axis_tvalid = 0; s_axis_tdata = 0;
+        @(posedge clk); #1; $display("after %0d %0d", i, range_err);
+        @(posedge clk); #1; $display("after %0d %0d", i, range_err);
+    end
+    $finish;
+end
+endmodule
+"""
 
 
-def _guard_bench(top_text: str) -> str:
-    """A testbench driving every input of ``shading_fit_top`` (0 unless written) that prints
-    ``range_err`` after each case: ``<case> <range_err>``."""
-    ports = [
-        wrapper.Port(m.group(3), m.group(1), int(m.group(2) or 0) + 1)
-        for m in re.finditer(
-            r"^\s+(input|output)\s+wire\s+(?:\[(\d+):0\]\s+)?(\w+)", top_text, re.M
-        )
+def _guard_cases(cfg: pipeline.PipelineConfig) -> list[tuple[str, dict[str, int], int]]:
+    """(name, span fields, whether the guard must flag it) of every guard case."""
+    lim = verilog.guard_limits(cfg)
+    l_field = dict((n, w) for n, _, w in core.SpanFormat(cfg).layout())["l"]
+    lo, hi = lim["n_first"], lim["n_last"]
+    cases = [
+        ("plain", {"l": 3}, 0),
+        ("l_max", {"l": lim["l_max"]}, 0),
+        ("n_first", {"spec": 1, "n": lo}, 0),
+        ("n_last", {"spec": 1, "n": hi}, 0),
+        ("n_below", {"spec": 1, "n": lo - 1}, 1),
+        ("n_above", {"spec": 1, "n": hi + 1}, 1),
+        ("n_top", {"spec": 1, "n": (1 << core.N_WIDTH) - 1}, 1),
+        ("n_no_spec", {"n": hi + 1}, 0),  # n is read only on a highlight span
+        ("diff", {"diff": 1}, 0 if lim["diffuse"] else 1),
     ]
-    assert len(ports) > 20
-    decl = []
-    for p in ports:
-        rng = f"[{p.width - 1}:0] " if p.width > 1 else ""
-        kind = "reg " if p.direction == "input" else "wire"
-        decl.append(f"{kind} {rng}{p.name}{' = 0' if p.direction == 'input' else ''};")
-    conns = ", ".join(f".{p.name}({p.name})" for p in ports)
-    widths = {p.name: p.width for p in ports}
-    lens = [("div_k", "div_k_in"), ("gou_len", "gou_len_in"), ("spec_len", "spec_len_in")]
-    return (
-        "`timescale 1ns/1ps\nmodule tb;\n"
-        + "\n".join(decl)
-        + f"\n{verilog.TOP} dut ({conns});\n"
-        + "always #5 clk = ~clk;\n"
-        + "task write_len(input integer which, input integer value); begin\n"
-        + "".join(
-            f"  if (which == {i}) begin {name} = value; {name[:-3]}_we = 1; end\n"
-            for i, (_, name) in enumerate(lens)
-            if name in widths
-        )
-        + "  @(posedge clk); #1;\n"
-        + "".join(f"  {name[:-3]}_we = 0;\n" for _, name in lens if name in widths)
-        + "end endtask\n"
-        + "task write_n(input integer value); begin\n"
-        + "  spec_n_in = value; spec_n_we = 1; @(posedge clk); #1; spec_n_we = 0;\n"
-        + "end endtask\n"
-        + "task report(input [8*16-1:0] name); begin\n"
-        + '  @(posedge clk); #1; $display("%0s %0d", name, range_err);\n'
-        + "end endtask\n"
-        + "task reset; begin rst_n = 0; @(posedge clk); @(posedge clk); #1; rst_n = 1; end "
-        + "endtask\n"
-        + 'initial begin\n  reset; report("idle");\n'
-        + "  `CASES\n  $finish;\nend\nendmodule\n"
-    )
+    if lim["l_max"] < (1 << l_field) - 1:
+        cases += [("l_over", {"l": lim["l_max"] + 1}, 1), ("l_top", {"l": (1 << l_field) - 1}, 1)]
+    return cases
 
 
-def _run_guard(tmp_path: Path, bundle: Path, top_text: str, cases: str) -> dict[str, list[int]]:
+def _run_guard(tmp_path: Path, bundle: Path, top_text: str, words: list[int]) -> list[int]:
+    """``range_err`` after each beat (each after a reset, which must have cleared it)."""
     if shutil.which("iverilog") is None:  # make test installs it (scripts/ensure-tools.sh)
         pytest.fail("iverilog is not installed: run `make tools`")
+    cfg = configfile.read_config(bundle / "config.toml")
+    fmt = core.SpanFormat(cfg)
     work = tmp_path / "guard"
     shutil.copytree(bundle / "rom", work / "rom")
-    (work / "top.v").write_text(top_text)
-    (work / "tb.v").write_text(_guard_bench(top_text).replace("`CASES", cases))
-    rtl = sorted(str(p) for p in (bundle / "rtl").glob("*.v"))
+    shutil.copytree(bundle / "rtl", work / "rtl")
+    (work / f"{verilog.TOP}.v").write_text(top_text)
+    (work / "beats.hex").write_text("".join(f"{w:x}\n" for w in words))
+    bench = GUARD_BENCH.replace("WIDTH-1", str(fmt.width - 1)).replace("CASES", str(len(words)))
+    (work / "tb.v").write_text(bench.replace("PIX-1", str(core.PixelFormat().width - 1)))
+    (work / "shading_fit.f").write_text((bundle / "shading_fit.f").read_text())
     subprocess.run(
-        ["iverilog", "-g2005", "-o", "tb.vvp", "-s", "tb", *rtl, "top.v", "tb.v"],
-        cwd=work,
-        check=True,
-        capture_output=True,
-        text=True,
-    )
+        ["iverilog", "-g2005", "-o", "tb.vvp", "-s", "tb", "-c", "shading_fit.f", "tb.v"],
+        cwd=work, check=True, capture_output=True, text=True,
+    )  # fmt: skip
     sim = subprocess.run(["vvp", "-n", "tb.vvp"], cwd=work, capture_output=True, text=True)
     assert sim.returncode == 0, sim.stdout + sim.stderr
-    seen: dict[str, list[int]] = {}
-    for line in sim.stdout.splitlines():
-        m = re.fullmatch(r"\s*(\w+) (\d)", line)
-        if m:
-            seen.setdefault(m.group(1), []).append(int(m.group(2)))
-    return seen
+    seen = re.findall(r"^(before|after) (\d+) (\d)$", sim.stdout, re.M)
+    assert len(seen) == 3 * len(words), sim.stdout
+    assert all(v == "0" for kind, _, v in seen if kind == "before"), "reset must clear range_err"
+    after = [int(v) for kind, _, v in seen if kind == "after"]
+    assert after[0::2] == after[1::2], "range_err must stay up"
+    return after[0::2]
 
 
-def _guard_cases(cfg: pipeline.PipelineConfig) -> tuple[str, dict[str, list[int]]]:
-    """Verilog for every guard case, and the ``range_err`` each must print."""
-    s = cfg.specular
-    cases, want = [], {}
-
-    def case(name: str, body: str, expect: int) -> None:
-        cases.append(f'reset; {body} report("{name}"); report("{name}");')
-        want[name] = [expect, expect]
-
-    for i, (name, top) in enumerate(
-        [("div", cfg.divider.k_max), ("gou", cfg.gouraud.len_max), ("spec", s.len_max)]
-    ):
-        case(f"{name}_max", f"write_len({i}, {top});", 0)
-        case(f"{name}_over", f"write_len({i}, {top + 1});", 1)
-        case(f"{name}_top", f"write_len({i}, 2047);", 1)
-    case("n_first", f"write_n({s.n_first});", 0)
-    case("n_last", f"write_n({s.n_last});", 0)
-    case("n_below", f"write_n({s.n_first - 1});", 1)
-    case("n_above", f"write_n({s.n_last + 1});", 1)
-    case("n_zero", "write_n(0);", 1)
-    cases.append('reset; write_len(1, 2047); reset; report("cleared");')
-    want["cleared"] = [0]
-    want["idle"] = [0]
-    return "\n  ".join(cases), want
-
-
-def test_range_guard_flags_what_the_fit_did_not_see(sphere_fit, tmp_path: Path) -> None:
+def test_range_guard_flags_what_the_fit_did_not_build(sphere_fit, tmp_path: Path) -> None:
     found, out = sphere_fit
     cfg = found.result.config
-    assert "specular" in found.units
-    cases, want = _guard_cases(cfg)
+    cases = _guard_cases(cfg)
+    layout = core.SpanFormat(cfg).layout()
+    words = [core.pack(layout, fields) for _, fields, _ in cases]
+    want = [flag for *_, flag in cases]
+    # the guard's model says the same
+    flagged = {int(line.split()[2].rstrip(":")) for line in verilog.guard_flags(words, cfg)}
+    assert [int(i in flagged) for i in range(len(words))] == want
     top = (out / f"{verilog.TOP}.v").read_text()
-    assert _run_guard(tmp_path, out, top, cases) == want
+    assert _run_guard(tmp_path, out, top, words) == want, [c[0] for c in cases]
     # The probe: with the guard cut, the same check sees the difference.
     cut = re.sub(r"wire range_bad = [^;]*;", "wire range_bad = 1'b0;", top)
     assert cut != top
-    assert _run_guard(tmp_path / "cut", out, cut, cases) != want
+    assert _run_guard(tmp_path / "cut", out, cut, words) != want
+
+
+def test_the_scene_never_trips_the_guard(sphere_fit) -> None:
+    found, _ = sphere_fit
+    cfg = found.result.config
+    frame_raster = raster.rasterise(scenefile.builtin_scene("sphere", SIZE, SIZE))
+    words = core.frame_stream(frame_raster, cfg).words
+    assert len(words) == found.needs.spans and verilog.guard_flags(words, cfg) == []
 
 
 def test_fitted_top_is_lint_clean(sphere_fit) -> None:
     _, out = sphere_fit
     if shutil.which("verilator") is None:
         pytest.fail("verilator is not installed: run `make tools`")
-    rtl = sorted(str(p) for p in (out / "rtl").glob("*.v"))
     lint = subprocess.run(
-        ["verilator", "--lint-only", "-Wall", "--top-module", verilog.TOP, *rtl,
-         f"{verilog.TOP}.v"],
+        ["verilator", "--lint-only", "-Wall", verilog.LINT_WAIVER, "-F", "shading_fit.f",
+         "--top-module", verilog.TOP],
         cwd=out, capture_output=True, text=True,
     )  # fmt: skip
     assert lint.returncode == 0, lint.stderr
+
+
+def test_the_synthesised_parameters_are_the_benches(sphere_fit, tmp_path: Path) -> None:
+    """``cost.synth_parameters`` (what the fit places) is ``sim.core_run.parameters`` (what the
+    core's benches build), for the fitted and the default configuration."""
+    from sim import core_run
+
+    found, _ = sphere_fit
+    for cfg in (found.result.config, cost.DEFAULT_DESIGN):
+        assert cost.synth_parameters(cfg, tmp_path) == core_run.parameters(cfg, tmp_path)
 
 
 # ------------------------------------------------------------------------------------------------
@@ -309,21 +321,30 @@ def test_model_refuses_a_longer_span(sphere_fit) -> None:
 
 
 @pytest.mark.sim
-def test_fitted_rtl_equals_the_model_byte_for_byte(sphere_fit, request) -> None:
-    from sim.scene_cosim import cosimulate
+def test_fitted_rtl_equals_the_model_byte_for_byte(sphere_fit) -> None:
+    """The fitted core's RTL (Icarus) on every span of the scene: the frame equals the model's
+    byte for byte, in the clocks the model gives (what ``shading fit`` proves, in-process)."""
+    from sim.core_run import cosimulate
 
     found, _ = sphere_fit
     cfg = found.result.config
-    result = cosimulate("sphere", SIZE, cfg, tag="fit_test")
+    result = cosimulate("sphere", SIZE, cfg, sim="icarus", tag="fit_test")
     diff = (result.rtl_rgb != result.model_rgb).any(axis=2)
     assert not diff.any(), f"{int(diff.sum())} pixels differ"
-    assert result.pixels == found.needs.pixels
-    assert result.results["divider_shift"] == result.jobs["divider_shift"] > 100
-    assert result.results["gouraud_segment"] >= 3 * found.needs.spans
-    record_sim(
-        request,
-        [result.sim_record("fitted design co-simulation (image equal byte for byte)", "fit_cosim")],
-    )
+    assert result.equal and result.run.pixels == found.needs.pixels
+    assert result.run.spans == found.needs.spans and result.run.cycles == result.model_cycles
+
+
+def test_the_fit_proves_the_core_through_the_bench_command(sphere_fit) -> None:
+    """``run.prove_rtl``: ``python -m sim bench --config --core-only`` on the bundle's
+    configuration, the frame equal, its lines kept."""
+    found, out = sphere_fit
+    source = scenefile.SceneSource("builtin", "sphere")
+    proof = run.prove_rtl(source, SIZE, out / "config.toml")
+    assert proof["equal"], proof
+    assert proof["command"].endswith("--core-only")
+    row = [line.split() for line in proof["lines"] if line.endswith("equal")]
+    assert row and row[0][:3] == ["sphere", "config", str(found.needs.pixels)], proof["lines"]
 
 
 # ------------------------------------------------------------------------------------------------

@@ -21,8 +21,10 @@ SLOW: dict[str, str] = {
         "a search that must exhaust every mode (90 s); quick: "
         "test_coarse_mesh_is_fitted_through_method_h"
     ),
-    "tests/test_fit.py::test_fitted_rtl_equals_the_model_byte_for_byte": (
-        "the fitted design's RTL co-simulation; quick: the scene co-simulation's small scene"
+    "tests/test_fit.py::test_the_fit_proves_the_core_through_the_bench_command": (
+        "the fit's RTL proof through `python -m sim bench --core-only` (a Verilator build of the "
+        "fitted core, 6 to 40 s); quick: test_fitted_rtl_equals_the_model_byte_for_byte runs the "
+        "same co-simulation in-process under Icarus"
     ),
     "tests/test_fit.py::test_candidates_are_placed_and_routed_and_the_fmax_floor_holds": (
         "place and route of every candidate; quick: test_synth.py's small run"

@@ -5,7 +5,8 @@ Owns ``FitReport`` (the needs, the search result, the candidates and their synth
 costs, the RTL proof, the time; ``record`` is fit.json), ``report_text`` (report.md),
 ``cost_row`` (the figures kept of a synthesis run), ``docs_block`` and ``readme_sentence`` (what
 docs/fit.md and README.md quote from a recorded fit; ``scripts/fit_docs.py`` writes the block).
-May import ``model.fit.analyse``, ``search`` and ``cost``, ``model.hw`` and ``model.render``.
+May import ``model.fit.analyse``, ``search``, ``cost`` and ``verilog``, ``model.hw`` and
+``model.render``.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from model.fit import analyse, cost, search
+from model.fit import analyse, cost, search, verilog
 from model.hw.synth import SynthResult
 from model.render import configfile, pipeline
 
@@ -134,9 +135,11 @@ def _knob_table(cfg: pipeline.PipelineConfig) -> list[str]:
 
 def _choice_lines(report: FitReport) -> list[str]:
     r, cfg = report.result, report.result.config
+    paths = verilog.guard_limits(cfg)
     units = (
-        f"- units: {', '.join(report.units)}; specular_mode = {cfg.specular_mode}, "
-        f"diffuse_mode = {cfg.diffuse_mode}"
+        f"- the shading core with the datapaths of {', '.join(report.units)} (SPECULAR = "
+        f"{paths['specular']}, DIFFUSE = {paths['diffuse']}); specular_mode = "
+        f"{cfg.specular_mode}, diffuse_mode = {cfg.diffuse_mode}"
     )
     if not r.met:
         return [
@@ -196,9 +199,9 @@ def _proof_lines(report: FitReport) -> list[str]:
         return ["(not run: --no-rtl)"]
     verdict = "equal byte for byte" if proof["equal"] else "NOT EQUAL"
     return [
-        f"Every span of the scene at {report.size} x {report.size} through the three fitted RTL "
-        f"units under Icarus (`{proof['command']}`, {proof['seconds']:.0f} s): the image is "
-        f"{verdict} to the model's.",
+        f"Every span of the scene at {report.size} x {report.size} through the fitted shading "
+        f"core's RTL, one span beat each (`{proof['command']}`, {proof['seconds']:.0f} s): the "
+        f"frame is {verdict} to the model's.",
         "",
         *[f"    {line}" for line in proof["lines"]],
     ]
@@ -224,8 +227,9 @@ def report_text(report: FitReport) -> str:
         "",
         *_choice_lines(report),
         "",
-        "## Cost (shading_fit_top synthesised, placed and routed as one design behind the six-pin "
-        "wrapper; the default design the same way)",
+        "## Cost (the shading core at the fitted parameters synthesised, placed and routed "
+        "behind the six-pin wrapper, `synthesise_top`; the default design, the core at its "
+        "default widths with both paths, the same way)",
         *_cost_table(report),
         "",
         "## The fitted RTL against the model",
@@ -235,8 +239,8 @@ def report_text(report: FitReport) -> str:
         + ", ".join(f"{k} {v:.1f} s" for k, v in report.seconds.items())
         + ".",
         "",
-        "Files: config.toml (the model configuration), shading_fit_top.v, rtl/, rom/, "
-        "shading_fit.core, fit.json, error.png.",
+        "Files: config.toml (the model configuration), shading_fit_top.v (the core behind the "
+        "range guard), rtl/, rom/, shading_fit.f, shading_fit.core, fit.json, error.png.",
     ]
     return "\n".join(lines) + "\n"
 
@@ -257,8 +261,9 @@ def docs_block(record: dict, record_name: str) -> str:
         "",
         f"{record['scene']}, {record['size']} x {record['size']}, target {record['target']}: "
         f"{'met' if record['met'] else 'NOT met'} with NMSE {c['nmse']:.6f}, PSNR "
-        f"{c['psnr']:.1f} dB, max error {c['max_abs_error']:.0f} levels; units "
-        f"{', '.join(record['units'])}; the fit took {record['seconds']['total']:.0f} s "
+        f"{c['psnr']:.1f} dB, max error {c['max_abs_error']:.0f} levels; the shading core "
+        f"with the datapaths of {', '.join(record['units'])}; the fit took "
+        f"{record['seconds']['total']:.0f} s "
         f"(search {record['seconds']['search']:.0f} s, {record['renders']} images rendered and "
         f"{record['cache_hits']} from the cache; synthesis {seconds.get('synthesis', 0):.0f} s, "
         f"its {len(runs)} place-and-route runs {sum(runs.values()):.0f} s when they were made; "

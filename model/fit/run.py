@@ -2,13 +2,15 @@
 """``shading fit``: a scene and a target in, the fitted design's bundle out (docs/fit.md).
 
 Owns ``fit`` (analyse, search, synthesise, write the bundle, check the model meets the target,
-prove the RTL), ``write_bundle`` and ``prove_rtl``; what it found is a ``model.fit.report``
-``FitReport``.  The bundle, in ``out_dir``:
+prove the fitted core's RTL on the scene), ``write_bundle`` and ``prove_rtl``; what it found is
+a ``model.fit.report`` ``FitReport``.  The bundle, in ``out_dir``:
 
 * ``config.toml``: the fitted pipeline configuration (``shading demo --config`` and
   ``model.render.configfile.read_config`` read it);
-* ``shading_fit_top.v``, ``rtl/`` (the units' RTL as used) and ``rom/`` (the fitted ROM images):
-  the design, with its range guard (``model.fit.verilog``); ``shading_fit.core``: its FuseSoC core;
+* ``shading_fit_top.v``, ``rtl/`` (the shading core's RTL, ``rtl/shading_core.f``'s files),
+  ``rom/`` (the fitted ROM images) and ``shading_fit.f`` (the source list): the design, the core
+  at its fitted parameters behind its range guard (``model.fit.verilog``); ``shading_fit.core``:
+  its FuseSoC core;
 * ``report.md``, ``fit.json``: what was chosen and why, the accuracy reached, the synthesised cost
   beside the default design's, the time taken; ``error.png``: the fitted image's error map.
 
@@ -26,7 +28,7 @@ from pathlib import Path
 
 from model.fit import analyse, cost, search, verilog
 from model.fit.report import FitReport, report_text
-from model.render import configfile, pipeline, raster, scene, scenefile
+from model.render import configfile, core, raster, scene, scenefile
 from model.study import images
 
 DEFAULT_PART = "ecp5-25f"
@@ -34,8 +36,7 @@ CACHE_DIR = Path("out/fit/cache")
 
 
 def design_note(scene_name: str, size: int, target: str) -> str:
-    """The comment the generated top level carries (the same text in the bundle and in the
-    synthesised design, so the two are the same files)."""
+    """The comment the generated top level carries."""
     return f"Scene {scene_name} at {size} x {size}: {target}."
 
 
@@ -44,20 +45,16 @@ def write_bundle(report: FitReport, out_dir: Path, error_image) -> list[Path]:
     cfg = report.result.config
     out_dir.mkdir(parents=True, exist_ok=True)
     written = [configfile.write_config(cfg, out_dir / "config.toml")]
-    roms = []
-    for name, data in cost.design_files(
-        cfg, design_note(report.scene, report.size, report.target.describe())
-    ).items():
-        if name.startswith("rom/"):
-            roms.append(name.removeprefix("rom/"))
-        elif name != f"{verilog.TOP}.v":
-            name = f"rtl/{name}"
+    files = cost.design_files(cfg, design_note(report.scene, report.size, report.target.describe()))
+    for name, data in files.items():
         path = out_dir / name
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_bytes(data)
         written.append(path)
+    rtl = [name for name in files if name.startswith("rtl/")]
+    roms = sorted(name.removeprefix("rom/") for name in files if name.startswith("rom/"))
     core = out_dir / "shading_fit.core"
-    core.write_text(verilog.fit_core(_core_name(report.scene), report.units, sorted(roms)))
+    core.write_text(verilog.fit_core(_core_name(report.scene), rtl, roms))
     written.append(core)
     written.append(images.save_error_heatmap(out_dir / "error.png", *error_image))
     (out_dir / "fit.json").write_text(json.dumps(report.record(), indent=1) + "\n")
@@ -73,16 +70,19 @@ def scene_arguments(source: scenefile.SceneSource) -> list[str]:
 
 
 def prove_rtl(source: scenefile.SceneSource, size: int, config: Path) -> dict:
-    """Every span of the scene through the fitted RTL units (``python -m sim bench --config``,
-    a separate process: ``sim`` sits above ``model``); whether the image equals the model's."""
+    """Every span of the scene through the fitted shading core's RTL (``python -m sim bench
+    --config --core-only``: ``sim.core_run.cosimulate`` at the fitted configuration, in a
+    separate process, since ``sim`` sits beside ``model.study``, below nothing in ``model``);
+    whether the frame equals the model's byte for byte in the clocks the model gives."""
     cmd = [sys.executable, "-m", "sim", "bench", *scene_arguments(source), "--size", str(size)]
-    cmd += ["--config", str(config)]
+    cmd += ["--config", str(config), "--core-only"]
     began = time.perf_counter()
     done = subprocess.run(cmd, capture_output=True, text=True)
     keep = [
         line.strip()
         for line in done.stdout.splitlines()
-        if line.startswith(("  divider", "  gouraud", "  specular", "co-simulation", "MISMATCH"))
+        if line.startswith(("== the shading core", "  scene", "FAIL"))
+        or (line.startswith("  ") and line.rstrip().endswith(("equal", "DIFFERS")))
     ]
     if done.returncode not in (0, 1) or not keep:
         keep += [line for line in (done.stdout + done.stderr).splitlines()[-15:]]
@@ -158,13 +158,12 @@ def fit(
         f"search: {'met' if candidates[0].met else 'NOT met'} {target.describe()}; "
         f"{len(candidates)} candidate designs ({evaluate.renders} renders, {evaluate.hits} cached)"
     )
-    note = design_note(report.scene, report.size, report.target.describe())
     if synthesise:
         t = time.perf_counter()
         if candidates[0].met:  # the cheapest candidate on the first part, by synthesis
             for cand in candidates:
                 say(f"synthesis of the {cand.policy} candidate on {parts[0]} ...")
-                report.candidates.append((cand, cost.design_cost(cand.config, parts[0], note)))
+                report.candidates.append((cand, cost.design_cost(cand.config, parts[0])))
             report.result = min(
                 report.candidates,
                 key=lambda c: (not report.fast_enough(c[1]), cost.part_share(c[1], parts[0])),
@@ -172,10 +171,10 @@ def fit(
         result = report.result
         for part in parts:
             say(f"synthesis, place and route of the fitted design on {part} ...")
-            report.costs[part] = cost.design_cost(result.config, part, note)
+            report.costs[part] = cost.design_cost(result.config, part)
             if compare_default:
                 say(f"... and of the default design on {part}")
-                report.default_costs[part] = cost.design_cost(pipeline.PipelineConfig(), part)
+                report.default_costs[part] = cost.default_cost(part)
         seconds["synthesis"] = time.perf_counter() - t
     result = report.result
     # The model proof: the fitted configuration, rendered afresh, meets the target.
@@ -188,9 +187,17 @@ def fit(
     error_image = (frame.rgb, evaluate.reference.rgb, "fitted design")
     report.files = write_bundle(report, Path(out_dir), error_image)
     if rtl and isinstance(source, scenefile.SceneSource):
-        say("the fitted RTL units against the model, every span (python -m sim bench) ...")
+        say("the fitted core's RTL against the model, every span (python -m sim bench) ...")
         t = time.perf_counter()
         report.rtl_proof = prove_rtl(source, size, Path(out_dir) / "config.toml")
+        # ... and no span beat of the scene trips the bundle's range guard (its model)
+        words = core.frame_stream(frame_raster, result.config).words
+        flagged = verilog.guard_flags(words, result.config)
+        report.rtl_proof["guard"] = (
+            f"range guard: {len(flagged)} of {len(words)} span beats flagged"
+        )
+        report.rtl_proof["lines"] += [report.rtl_proof["guard"], *flagged[:5]]
+        report.rtl_proof["equal"] = report.rtl_proof["equal"] and not flagged
         seconds["rtl"] = time.perf_counter() - t
         seconds["total"] = time.perf_counter() - began
         report.seconds = {k: round(v, 1) for k, v in seconds.items()}

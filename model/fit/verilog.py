@@ -1,105 +1,124 @@
 # SPDX-License-Identifier: Apache-2.0
-"""The fitted design as Verilog: the units at their fitted parameters behind a range guard.
+"""The fitted design as Verilog: the shading core at its fitted parameters behind a range guard.
 
-Owns ``fit_top`` (the text of ``shading_fit_top.v``), ``rom_images`` (the ROM images the fitted
-units read, by file name) and ``fit_core`` (a FuseSoC core of the bundle).
+Owns ``core_parameters`` (the core's Verilog parameters for a fitted configuration, ROM images
+by file name), ``rom_images`` (the ROM images the fitted core reads, by file name),
+``guard_limits`` and ``guard_flags`` (the guard's rule, and the model of it on span beats),
+``fit_top`` (the text of ``shading_fit_top.v``), ``source_list`` (the bundle's ``.f`` list) and
+``fit_core`` (a FuseSoC core of the bundle).
 
-``shading_fit_top`` instantiates the divider, the Gouraud unit and (where the design uses it) the
-specular unit with the fitted parameters; every unit port appears on the top level with the
-unit's prefix (``div_``, ``gou_``, ``spec_``), except the length inputs, which keep the default
-design's width (11 bits) so that a host written for the default units can drive it.  The guard:
-``range_err`` rises (and stays up until reset) on the edge after a length is written that the
-fitted counters cannot hold, or, on the specular unit, an n outside the kept range (the unit's
-own ``n_err`` then marks the line as well).  The written value is then not the one the unit got:
-nothing after it is to be trusted until reset, and the flag says so instead of a wrong pixel.
-ROM images are read from ``SHADING_FIT_ROM_DIR`` (default ``"rom/"``, relative to the
-simulator's or Yosys's working folder).
+``shading_fit_top`` instantiates ``shading_core`` (``rtl/shading_core.v`` and the modules
+``rtl/shading_core.f`` lists, copied into the bundle's ``rtl/``) with the fitted parameters; its
+ports are the core's (``s_axis`` span beats of the fitted ``SpanFormat``, ``m_axis`` pixel
+beats) and ``range_err``.  The guard: ``range_err`` rises (and stays up until reset) on the
+edge after a span beat is taken that asks for what the fit did not build: ``l`` beyond the
+longest span the fitted divider, Gouraud and specular counters take, an ``n`` outside the kept
+range on a span with ``spec`` set (the core's ``tuser`` also marks that span's pixels), or
+``spec`` / ``diff`` set for a path the core was built without.  Nothing after it is to be
+trusted until reset, and the flag says so instead of a wrong pixel.  ROM images are read from
+``SHADING_FIT_ROM_DIR`` (default ``"rom/"``, relative to the simulator's or Yosys's working
+folder).
 """
 
 from __future__ import annotations
 
 from pathlib import Path
 
-from model.hw import params as hw_params
-from model.hw import wrapper
-from model.render import pipeline
-from model.units import divider, gouraud, rom, specular
+from model.hw import sources
+from model.render import core, pipeline
+from model.units import divider, specular
 
 TOP = "shading_fit_top"
-PREFIX = {"divider": "div_", "gouraud": "gou_", "specular": "spec_"}
-MODULE = {"divider": "divider_shift", "gouraud": "gouraud_segment", "specular": "specular_unit"}
-# the length input of each unit, and the largest value the default design takes there
-LENGTH_PORT = {
-    "divider": ("k_in", "k_we", divider.DEFAULT.k_width),
-    "gouraud": ("len_in", "len_we", gouraud.DEFAULT.len_width),
-    "specular": ("len_in", "len_we", specular.DEFAULT.len_width),
-}
-RTL_DIR = rom.ROM_DIR.parent  # rtl/, installed as model.rtl
+CORE = "shading_core"
+ROM_PARAMS = ("RECIP_ROM_FILE", "A_ROM_FILE", "COS_ROM_FILE")
+RTL_DIR = sources.RTL_DIR  # rtl/, installed as the package data model.rtl
 
 
-def unit_params(cfg: pipeline.PipelineConfig, unit: str) -> dict[str, object]:
-    """The unit's Verilog parameters, ROM files by name only."""
-    params = hw_params.unit_parameters(getattr(cfg, unit))
-    return {k: (Path(str(v)).name if k.endswith("ROM_FILE") else v) for k, v in params.items()}
+def core_sources() -> list[Path]:
+    """The core's RTL files, in the order ``rtl/shading_core.f`` lists them."""
+    return sources.source_list(CORE)
 
 
-def rom_images(cfg: pipeline.PipelineConfig, units: tuple[str, ...]) -> dict[str, str]:
-    """{file name: image text} of every ROM the design's units read."""
-    images = {}
-    for unit in units:
-        for name, value in unit_params(cfg, unit).items():
-            if not name.endswith("ROM_FILE"):
-                continue
-            if unit == "divider":
-                images[str(value)] = divider.rom_text(cfg.divider)
-            else:
-                which = "a" if name.startswith("A_") else "cos"
-                images[str(value)] = specular.rom_text(cfg.specular, which)
-    return images
+def core_parameters(cfg: pipeline.PipelineConfig) -> dict[str, object]:
+    """``core.core_parameters`` of ``cfg`` (the paths follow its modes), ROM files by name."""
+    params = core.core_parameters(cfg)
+    return {k: (Path(str(v)).name if k in ROM_PARAMS else v) for k, v in params.items()}
+
+
+def rom_images(cfg: pipeline.PipelineConfig) -> dict[str, str]:
+    """{file name: image text} of every ROM the fitted core names."""
+    params = core_parameters(cfg)
+    return {
+        str(params["RECIP_ROM_FILE"]): divider.rom_text(cfg.divider),
+        str(params["A_ROM_FILE"]): specular.rom_text(cfg.specular, "a"),
+        str(params["COS_ROM_FILE"]): specular.rom_text(cfg.specular, "cos"),
+    }
+
+
+def guard_limits(cfg: pipeline.PipelineConfig) -> dict[str, int]:
+    """The guard's rule: the largest ``l`` the fitted counters take (the Gouraud line of
+    ``len_max`` pixels, the divider's ``k_max``, the specular unit's ``len_max`` intervals), the
+    kept range of n, and which paths are built."""
+    params = core.core_parameters(cfg)
+    g, d, s = cfg.gouraud, cfg.divider, cfg.specular
+    return {
+        "l_max": min(g.len_max - 1, d.k_max, s.len_max),
+        "n_first": s.n_first,
+        "n_last": s.n_last,
+        "specular": int(params["SPECULAR"]),
+        "diffuse": int(params["DIFFUSE"]),
+    }
+
+
+def guard_flags(words: list[int], cfg: pipeline.PipelineConfig) -> list[str]:
+    """What the guard flags in the span beats ``words`` (the model of ``range_bad``): one line
+    per flagged beat, naming the beat and the rule; empty when every beat is in range."""
+    lim = guard_limits(cfg)
+    layout = core.SpanFormat(cfg).layout()
+    out = []
+    for i, word in enumerate(words):
+        f = core.unpack(layout, word)
+        why = []
+        if f["l"] > lim["l_max"]:
+            why.append(f"l = {f['l']} > {lim['l_max']}")
+        if f["spec"] and not lim["n_first"] <= f["n"] <= lim["n_last"]:
+            why.append(f"n = {f['n']} outside {lim['n_first']}..{lim['n_last']}")
+        if f["spec"] and not lim["specular"]:
+            why.append("spec set, no highlight path")
+        if f["diff"] and not lim["diffuse"]:
+            why.append("diff set, no diffuse path")
+        if why:
+            out.append(f"span beat {i}: {', '.join(why)}")
+    return out
 
 
 def _param_value(name: str, value: object) -> str:
-    if name.endswith("ROM_FILE"):
+    if name in ROM_PARAMS:
         return f'{{`SHADING_FIT_ROM_DIR, "{value}"}}'
     if isinstance(value, str):
         return f'"{value}"'
     return str(int(value))
 
 
-def fit_top(cfg: pipeline.PipelineConfig, units: tuple[str, ...], note: str = "") -> str:
+def fit_top(cfg: pipeline.PipelineConfig, note: str = "") -> str:
     """The Verilog-2005 text of ``shading_fit_top`` (module docstring)."""
-    decls: list[str] = ["    input  wire clk", "    input  wire rst_n"]
-    body: list[str] = []
-    guards: list[str] = []
-    for unit in units:
-        pre = PREFIX[unit]
-        params = unit_params(cfg, unit)
-        found = wrapper.ports(RTL_DIR / f"{MODULE[unit]}.v", MODULE[unit], params)
-        length, strobe, wide = LENGTH_PORT[unit]
-        conns = []
-        for p in found:
-            if p.name in ("clk", "rst_n"):
-                conns.append(f"        .{p.name}({p.name})")
-                continue
-            width = wide if p.name == length else p.width
-            rng = f"[{width - 1}:0] " if width > 1 else ""
-            decls.append(f"    {p.direction:<6} wire {rng}{pre}{p.name}")
-            if p.name == length:
-                conns.append(f"        .{p.name}({pre}{p.name}[{p.width - 1}:0])")
-                if wide > p.width:
-                    guards.append(f"({pre}{strobe} && |{pre}{length}[{wide - 1}:{p.width}])")
-            else:
-                conns.append(f"        .{p.name}({pre}{p.name})")
-        plist = ",\n".join(f"        .{k}({_param_value(k, v)})" for k, v in params.items())
-        body.append(
-            f"{MODULE[unit]} #(\n{plist}\n    ) u_{unit} (\n" + ",\n".join(conns) + "\n    );\n"
-        )
-    if "specular" in units:
-        s = cfg.specular
-        lo, hi = s.n_first, s.n_last
-        guards.append(f"(spec_n_we && (spec_n_in < 10'd{lo} || spec_n_in > 10'd{hi}))")
-    decls.append("    output wire range_err")
-    guard = " ||\n                 ".join(guards) or "1'b0"
+    fmt = core.SpanFormat(cfg)
+    pix = core.PixelFormat(fmt.x_width, fmt.y_width)
+    lim = guard_limits(cfg)
+    at = {name: (lo, w) for name, lo, w in fmt.layout()}
+    l_lo, l_w = at["l"]
+    n_lo, n_w = at["n"]
+    rules = []
+    if lim["l_max"] < (1 << l_w) - 1:
+        rules.append(f"(in_l > {l_w}'d{lim['l_max']})")
+    rules.append(f"(in_spec && (in_n < {n_w}'d{lim['n_first']} || in_n > {n_w}'d{lim['n_last']}))")
+    if not lim["specular"]:
+        rules.append("in_spec")
+    if not lim["diffuse"]:
+        rules.append("in_diff")
+    rule = " ||\n                  ".join(rules)
+    params = core_parameters(cfg)
+    plist = ",\n".join(f"    .{k}({_param_value(k, v)})" for k, v in params.items())
     head = "\n".join(f"// {line}" if line else "//" for line in note.splitlines())
     return f"""// SPDX-License-Identifier: Apache-2.0
 // Generated by `shading fit` (model/fit/verilog.py; docs/fit.md): do not edit.
@@ -112,11 +131,28 @@ def fit_top(cfg: pipeline.PipelineConfig, units: tuple[str, ...], note: str = ""
 `default_nettype none
 
 module {TOP} (
-{("," + chr(10)).join(decls)}
+    input  wire             clk,
+    input  wire             rst_n,
+    input  wire {f"[{fmt.width - 1}:0]":<11} s_axis_tdata,
+    input  wire             s_axis_tvalid,
+    output wire             s_axis_tready,
+    output wire {f"[{pix.width - 1}:0]":<11} m_axis_tdata,
+    output wire             m_axis_tlast,
+    output wire             m_axis_tuser,
+    output wire             m_axis_tvalid,
+    input  wire             m_axis_tready,
+    output wire             range_err
 );
 
-// The range guard: a length the fitted counters cannot hold, or an n outside the kept range.
-wire range_bad = {guard};
+// The range guard, on every span beat taken: l beyond the fitted counters (l <= {lim["l_max"]}),
+// n outside the kept range {lim["n_first"]}..{lim["n_last"]} on a highlight span, a path the core
+// was built without (SPECULAR = {lim["specular"]}, DIFFUSE = {lim["diffuse"]}).
+wire [{l_w - 1}:0] in_l = s_axis_tdata[{l_lo + l_w - 1}:{l_lo}];
+wire [{n_w - 1}:0] in_n = s_axis_tdata[{n_lo + n_w - 1}:{n_lo}];
+wire in_spec = s_axis_tdata[{at["spec"][0]}];
+wire in_diff = s_axis_tdata[{at["diff"][0]}];
+wire range_bad = s_axis_tvalid && s_axis_tready && (
+                  {rule});
 reg  range_err_reg;
 assign range_err = range_err_reg;
 always @(posedge clk) begin
@@ -127,31 +163,82 @@ always @(posedge clk) begin
     end
 end
 
-{(chr(10)).join(body)}
+{CORE} #(
+{plist}
+) u_core (
+    .clk(clk),
+    .rst_n(rst_n),
+    .s_axis_tdata(s_axis_tdata),
+    .s_axis_tvalid(s_axis_tvalid),
+    .s_axis_tready(s_axis_tready),
+    .m_axis_tdata(m_axis_tdata),
+    .m_axis_tlast(m_axis_tlast),
+    .m_axis_tuser(m_axis_tuser),
+    .m_axis_tvalid(m_axis_tvalid),
+    .m_axis_tready(m_axis_tready)
+);
+
 endmodule
 
 `resetall
 """
 
 
-def fit_core(name: str, units: tuple[str, ...], roms: list[str]) -> str:
-    """A FuseSoC CAPI2 core of the bundle: the units' RTL (copied beside it) and the ROMs."""
-    rtl = "\n".join(f"      - rtl/{MODULE[u]}.v" for u in units)
+def source_list(rtl: list[str]) -> str:
+    """The bundle's ``shading_fit.f``: the core's files, then the top (relative to the list)."""
+    lines = [
+        "// SPDX-License-Identifier: Apache-2.0",
+        "// Generated by `shading fit` (docs/fit.md): the bundle's sources, relative to this file.",
+        f"// Verilator: {LINT_WAIVER} -F shading_fit.f --top-module {TOP}; Icarus: iverilog -c "
+        "shading_fit.f.",
+        '// ROM images: `SHADING_FIT_ROM_DIR (default "rom/", the tool\'s working folder).',
+        *rtl,
+        f"{TOP}.v",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+LINT_WAIVER = "shading_fit.vlt"
+"""The bundle's Verilator configuration: the core built without a path (``SPECULAR`` = 0 or
+``DIFFUSE`` = 0) leaves that path's registers unread, so ``UNUSED`` is waived in
+``shading_core.v`` alone; the top level and the other modules lint under ``-Wall`` unwaived."""
+
+
+def lint_waiver() -> str:
+    """The text of ``LINT_WAIVER``."""
+    return (
+        "`verilator_config\n"
+        "// Generated by `shading fit` (docs/fit.md): a path the fitted core is built without\n"
+        "// (SPECULAR = 0 or DIFFUSE = 0) leaves its registers unread in shading_core.v.\n"
+        'lint_off -rule UNUSED -file "*shading_core.v"\n'
+    )
+
+
+def fit_core(name: str, rtl: list[str], roms: list[str]) -> str:
+    """A FuseSoC CAPI2 core of the bundle: the core's RTL (copied beside it), the top, the ROMs
+    (``rtl/shading_core.core`` is its template)."""
+    files = "\n".join(f"      - {f}" for f in rtl)
     rom_lines = "\n".join(f"      - rom/{r}: {{copyto: rom/{r}}}" for r in roms)
     return f"""CAPI=2:
 # SPDX-License-Identifier: Apache-2.0
-# Generated by `shading fit` (docs/fit.md):
+# Generated by `shading fit` (docs/fit.md): the shading core fitted to the scene {name}
+# behind its range guard ({TOP}.v; the sources as shading_fit.f lists them).
 #   fusesoc --cores-root . run --build-root build --target lint shading:fit:{name}
 #   fusesoc --cores-root . run --build-root build --target synth shading:fit:{name}
 name: shading:fit:{name}:0.1
-description: "The units fitted to the scene {name} (report.md)"
+description: "The shading core fitted to the scene {name} (report.md)"
 
 filesets:
   rtl:
     files:
-{rtl}
+{files}
       - {TOP}.v
     file_type: verilogSource
+  waiver:
+    files:
+      - {LINT_WAIVER}
+    file_type: vlt
+  # ROM images, copied to rom/ in the build folder: SHADING_FIT_ROM_DIR's default
   rom:
     files:
 {rom_lines}
@@ -163,6 +250,8 @@ targets:
     toplevel: {TOP}
   lint:
     <<: *default
+    filesets: [rtl, rom, waiver]
+    description: "Verilator lint (-Wall) of the fitted design, with shading_fit.vlt"
     default_tool: verilator
     tools:
       verilator:
