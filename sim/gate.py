@@ -37,6 +37,7 @@ import time
 from dataclasses import dataclass
 from pathlib import Path
 
+from model.hw.sources import source_list
 from model.hw.tools import find_tool
 from sim import vector_sets
 from sim.runner import RTL_DIR
@@ -115,7 +116,9 @@ def synthesise(set_name: str, target: str, reset_all: int, build: Path) -> tuple
     # The WebAssembly Yosys sees the host's /tmp as its own private /tmp: a clone or a ROM under
     # /tmp is out of its reach by absolute path.  The RTL and ROM images are copied into the
     # build folder and named relative to it.
-    shutil.copyfile(RTL_DIR / f"{unit}.v", folder / f"{unit}.v")
+    sources = source_list(unit, RTL_DIR)  # rtl/<unit>.f: every file of the top
+    for src in sources:
+        shutil.copyfile(src, folder / src.name)
     for name, value in params.items():
         if name.endswith("ROM_FILE"):
             rom = Path(value.strip('"'))
@@ -126,7 +129,7 @@ def synthesise(set_name: str, target: str, reset_all: int, build: Path) -> tuple
         f"-set {k} {v}" for k, v in {**params, "RESET_ALL": str(reset_all)}.items() if k != "CYCLES"
     )
     script = (
-        f"read_verilog -defer {unit}.v; chparam {chparams} {unit}; "
+        f"read_verilog -defer {' '.join(src.name for src in sources)}; chparam {chparams} {unit}; "
         f"hierarchy -top {unit}; {SYNTH[target].format(top=unit)}; "
         f"tee -q -o stat.txt stat; write_verilog -noattr {netlist.name}"
     )

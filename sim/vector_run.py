@@ -32,6 +32,8 @@ from dataclasses import dataclass
 from importlib.resources import files
 from pathlib import Path
 
+from model.hw.sources import source_list
+
 VECTOR_DIR = Path(__file__).resolve().parent / "vectors"
 RTL_DIR = Path(str(files("model.rtl")))
 SIMS = ("icarus", "verilator")
@@ -101,7 +103,8 @@ def build(
     cache: bool = True,
     timeout: float = 3600,
 ) -> Build:
-    """Build ``sim/vectors/tb_<unit>.v`` with ``rtl`` (default ``rtl/<unit>.v``) under ``sim``.
+    """Build ``sim/vectors/tb_<unit>.v`` with ``rtl`` (a netlist or a broken copy; default the
+    files ``rtl/<unit>.f`` lists) under ``sim``.
 
     ``params``: NAME -> Verilog value text (strings in double quotes), the unit's parameters
     and optionally RESET_MODES; the vector file and CYCLES are given to ``run``.
@@ -109,7 +112,7 @@ def build(
     if sim not in SIMS:
         raise ValueError(f"sim={sim!r} is not allowed: it must be one of {', '.join(SIMS)}")
     top = f"tb_{unit}"
-    sources = [VECTOR_DIR / f"{top}.v", rtl or RTL_DIR / f"{unit}.v"]
+    sources = [VECTOR_DIR / f"{top}.v", *([rtl] if rtl else source_list(unit, RTL_DIR))]
     common = [f"-I{VECTOR_DIR}", f'-DSHADING_ROM_DIR="{RTL_DIR / "rom"}"']
     digest = hashlib.sha256(tool_version(sim).encode())
     for path in [*sources, VECTOR_DIR / "vector_loop.vh"]:
