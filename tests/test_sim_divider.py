@@ -5,10 +5,13 @@ before any build, naming the version found and the one needed."""
 
 from __future__ import annotations
 
+from xml.etree import ElementTree
+
 import pytest
 
 from model.units import divider
 from sim import runner
+from sim.common import CLOCK_NS, WATCHDOG_CYCLES
 from sim.runner import SIM_BUILD, hdl_parameters, run_bench, simulator
 from tests import mutants
 from tests.conftest import record_sim
@@ -71,13 +74,15 @@ def test_bench_finds_the_div_zero_leak(request) -> None:
 
 def test_stuck_busy_fails_instead_of_hanging(request) -> None:
     """A divider whose busy never falls fails the bench's extremes test (the watchdog of
-    ``wait_idle``), it does not hang it."""
+    ``wait_idle``), it does not hang it: the failure cocotb records is the watchdog's
+    SimTimeoutError, raised WATCHDOG_CYCLES clock periods into the test."""
     cfg = divider.DEFAULT
     params = hdl_parameters(cfg, ROM_FILE=divider.rom_path(cfg))
+    name = "divider_mutant_busy_stuck"
     records = run_bench(
         "divider_shift",
         "sim.tb_divider",
-        "divider_mutant_busy_stuck",
+        name,
         params,
         cfg,
         testcase="test_extremes",
@@ -85,6 +90,15 @@ def test_stuck_busy_fails_instead_of_hanging(request) -> None:
         expect_failure=True,
     )
     assert records == [], records  # the test failed before it could finish its summary
+    # run_bench's build folder for the default RESET_ALL = 0 (a suffix for another simulator)
+    build_dir = SIM_BUILD / (name if simulator() == "icarus" else f"{name}-{simulator()}")
+    cases = ElementTree.parse(build_dir / "results.xml").getroot().iter("testcase")
+    (case,) = [c for c in cases if c.get("name") == "test_extremes"]
+    failures = case.findall("failure")
+    assert [f.get("type") for f in failures] == ["SimTimeoutError"], ElementTree.tostring(case)
+    assert "wait_idle" in (failures[0].text or ""), failures[0].text  # the watchdog's own timeout
+    stop = {p.get("name"): p.get("value") for p in case.iter("property")}["sim_time_stop"]
+    assert float(stop) >= WATCHDOG_CYCLES * CLOCK_NS, stop
 
 
 def test_bench_finds_a_one_cycle_glitch_between_events(request) -> None:
