@@ -118,6 +118,8 @@ def test_network_rule_prefers_an_addition_then_the_smallest_second_operand(p: in
 
 
 # ------------------------------------------------------------------------ conversion
+# No per-example deadline: the first example pays numba's compile of the model's kernels
+# and a loaded machine slows any example; max_examples bounds the run instead.
 @settings(deadline=None)
 @given(x=st.integers(-(1 << 40), 1 << 40), f=st.integers(1, 24))
 def test_rounding_bias_turns_truncation_into_round_half_up(x: int, f: int) -> None:
@@ -129,6 +131,8 @@ def test_rounding_bias_turns_truncation_into_round_half_up(x: int, f: int) -> No
     assert fixed.trunc_shift(x + (1 << (f - 1)), f) == fixed.round_shift(x, f) == expected
 
 
+# No per-example deadline: the first example pays numba's compile of the model's kernels
+# and a loaded machine slows any example; max_examples bounds the run instead.
 @settings(deadline=None)
 @given(x=st.integers(-(1 << 40), 1 << 40), hi=st.integers(0, 1 << 16))
 def test_saturate_clamps_to_the_output_range(x: int, hi: int) -> None:

@@ -7,7 +7,7 @@ from fractions import Fraction
 
 import numpy as np
 import pytest
-from hypothesis import given
+from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from model.study.accuracy import divider_table1, format_up
@@ -103,6 +103,9 @@ def test_quotient_width_is_tight_at_the_extremes() -> None:
         assert divider.divide(hi, 1, cfg) <= (1 << (cfg.q_width - 1)) - 1
 
 
+# No per-example deadline: the first example pays numba's compile of the model's kernels
+# and a loaded machine slows any example; max_examples bounds the run instead.
+@settings(deadline=None)
 @given(
     a=st.integers(*ARTICLE.a_range),
     k=st.integers(1, ARTICLE.k_max),

@@ -130,6 +130,8 @@ def test_adder_counts() -> None:
 
 
 # ------------------------------------------------------------------------ exactness
+# No per-example deadline: the first example pays numba's compile of the model's kernels
+# and a loaded machine slows any example; max_examples bounds the run instead.
 @settings(max_examples=300, deadline=None)
 @given(lines())
 def test_segments_equal_per_pixel_accumulation(line) -> None:
@@ -143,6 +145,8 @@ def test_segments_equal_per_pixel_accumulation(line) -> None:
     assert values.ravel().tolist() == expected
 
 
+# No per-example deadline: the first example pays numba's compile of the model's kernels
+# and a loaded machine slows any example; max_examples bounds the run instead.
 @settings(max_examples=300, deadline=None)
 @given(lines())
 def test_shade_line_is_rounded_and_saturated_exact_values(line) -> None:
@@ -156,6 +160,8 @@ def test_shade_line_is_rounded_and_saturated_exact_values(line) -> None:
     ]
 
 
+# No per-example deadline: the first example pays numba's compile of the model's kernels
+# and a loaded machine slows any example; max_examples bounds the run instead.
 @settings(max_examples=200, deadline=None)
 @given(lines())
 def test_never_wraps_monotone(line) -> None:
@@ -251,6 +257,8 @@ def minimal_width(cfg: GouraudConfig) -> int:
     return width
 
 
+# No per-example deadline: the first example pays numba's compile of the model's kernels
+# and a loaded machine slows any example; max_examples bounds the run instead.
 @settings(max_examples=300, deadline=None)
 @given(configs)
 def test_acc_width_is_minimal(cfg: GouraudConfig) -> None:

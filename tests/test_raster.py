@@ -117,6 +117,8 @@ def test_fan_with_vertices_on_pixel_centres_covers_each_pixel_once() -> None:
     assert count.sum() == 15 * 15
 
 
+# No per-example deadline: the first example pays numba's compile of the model's kernels
+# and a loaded machine slows any example; max_examples bounds the run instead.
 @settings(max_examples=150, deadline=None)
 @given(
     st.lists(
@@ -284,6 +286,8 @@ unit_vectors = st.tuples(
 ).filter(lambda v: np.linalg.norm(v) > 0.1)
 
 
+# No per-example deadline: the first example pays numba's compile of the model's kernels
+# and a loaded machine slows any example; max_examples bounds the run instead.
 @settings(max_examples=200, deadline=None)
 @given(unit_vectors, unit_vectors, st.floats(0, 1))
 def test_slerp_properties(a, b, t) -> None:

@@ -181,6 +181,8 @@ def test_highlight_on_an_edge_is_found() -> None:
     assert not triangle_may_show_highlight(far, h, 10, 0.01)
 
 
+# No per-example deadline: the first example pays numba's compile of the model's kernels
+# and a loaded machine slows any example; max_examples bounds the run instead.
 @settings(max_examples=120, deadline=None)
 @given(
     st.lists(st.floats(-1, 1, allow_nan=False), min_size=12, max_size=12),
