@@ -358,13 +358,16 @@ def setup_rate(scene_name="teapot", size: int = 256, method="hybrid", repeats: i
     """Time the model's per-span set-up on one CPU core (numba's threads set to one): every
     object's spans through ``pipeline.build_jobs`` (the float set-up and quantisation) and
     ``core.span_beats`` (packing), the rasterising left out; best of ``repeats`` after one
-    warm-up run."""
+    warm-up run.  ``scene_name``: a built-in scene's name or a ``scene.Scene``."""
     import numba
 
-    from model.render import pipeline, raster, scenefile, shade
+    from model.render import pipeline, raster, scene, scenefile, shade
 
     cfg = method if isinstance(method, PipelineConfig) else pipeline.METHODS[method]
-    frame = raster.rasterise(scenefile.builtin_scene(scene_name, size, size))
+    if isinstance(scene_name, scene.Scene):
+        frame = raster.rasterise(scene_name)
+    else:
+        frame = raster.rasterise(scenefile.builtin_scene(scene_name, size, size))
     fmt = core.SpanFormat(cfg)
     collected = []
 

@@ -387,3 +387,22 @@ def test_the_timing_diagram_is_the_core_s_timing():
     words = random_words(fmt, 2, seed=4, lengths=[2, 1])
     r = core_run.run_words(words, fmt, core_run.parameters(DEFAULT), tag="core_wave")
     assert r.mismatches == [] and r.cycles == out[-1] - taken[0] + 1
+
+
+def test_the_data_sheet_s_resources_are_the_synthesis_record():
+    """docs/core.md's resource table is docs/synth.json's shading_core rows (make synth)."""
+    import json
+    from pathlib import Path
+
+    root = Path(__file__).resolve().parents[1]
+    record = json.loads((root / "docs" / "synth.json").read_text())["results"]
+    want = []
+    for r in record:
+        if r["unit"] == "shading_core":
+            fmax = f"{r['fmax_mhz']:.1f}" if r["fmax_mhz"] else "-"
+            want.append(f"| {r['config']} | {r['part']} | {r['lut']} | {r['ff']} | {r['bram']} | "
+                        f"{r['dsp']} | {'yes' if r['fits'] else 'no'} | {fmax} |")  # fmt: skip
+    text = (root / "docs" / "core.md").read_text()
+    section = text.split("## Resources\n", 1)[1].split("\n## ", 1)[0]
+    rows = [line for line in section.splitlines() if line.startswith("| ") and "---" not in line]
+    assert rows[1:] == want
