@@ -8,9 +8,11 @@ failing its div_zero property, and the synthesised netlist proven equal to the R
 for the segment Gouraud unit (--units gouraud_segment, model.hw.formal_gouraud), and the
 specular unit's protocol proof, covers and deliberate errors, its intensities proven equal to a
 reference formula and its netlist equivalence at a reduced configuration (--units
-specular_unit, model.hw.formal_specular).  The table is printed and written with every result to
-``<out>/formal.json``.  Exit status 1 if a job does not give the outcome it requires, 2 on bad
-arguments or a missing tool.
+specular_unit, model.hw.formal_specular), and the shading core's stream protocol (--units
+shading_core, model.hw.formal_core: the AXI4-Stream rules of both ports, l + 1 pixel beats per
+span beat with tlast on the last, no deadlock, no beat after reset).  The table is printed and
+written with every result to ``<out>/formal.json``.  Exit status 1 if a job does not give the
+outcome it requires, 2 on bad arguments or a missing tool.
 
     python scripts/formal.py                    # everything (make formal)
     python scripts/formal.py --quick            # the subset make test runs
@@ -30,7 +32,7 @@ from model.hw import formal
 
 ROOT = Path(__file__).resolve().parent.parent
 OLD_DIVIDER = ROOT / "formal" / "divider_shift_released.v"  # before ce5dedb: the div_zero leak
-UNITS = ("divider_shift", "gouraud_segment", "specular_unit")
+UNITS = ("divider_shift", "gouraud_segment", "specular_unit", "shading_core")
 
 
 def old_divider() -> Path:

@@ -26,12 +26,14 @@ from pathlib import Path
 
 import pytest
 
-from model.hw import formal, formal_gouraud, formal_specular
+from model.hw import formal, formal_core, formal_gouraud, formal_specular
 
 ROOT = Path(__file__).resolve().parent.parent
 PROPS = ROOT / "formal" / "divider_shift_props.v"
 GOURAUD_PROPS = ROOT / "formal" / "gouraud_segment_props.v"
 SPECULAR_PROPS = ROOT / "formal" / "specular_unit_props.v"
+CORE_PROPS = ROOT / "formal" / "shading_core_props.v"
+AXIS_PROPS = ROOT / "formal" / "axis_props.v"
 DOC = ROOT / "docs" / "formal.md"
 
 
@@ -55,6 +57,8 @@ def quick(tmp_path_factory) -> dict[str, formal.FormalResult]:
     for job in formal.jobs("gouraud_segment", quick=True):
         results[job.name] = formal.run_job(job, out)
     for job in formal.jobs("specular_unit", quick=True):
+        results[job.name] = formal.run_job(job, out)
+    for job in formal.jobs("shading_core", quick=True):
         results[job.name] = formal.run_job(job, out)
     return results
 
@@ -112,6 +116,56 @@ def test_quick_specular_intensities_are_proven_at_small(quick) -> None:
     assert r.ok and r.status == "proven", r.detail
     assert {"intensity_formula", formal_specular.REFERENCE} <= set(r.job.properties)
     assert dict(r.rows)["intensity_formula"] == "proven"
+
+
+def test_quick_core_stream_protocol_proven_bounded_and_mutant(quick) -> None:
+    r = quick["shading_core_prove_small"]
+    assert r.ok and r.status == "proven", r.detail
+    assert set(r.job.properties) == set(formal_core.PROTOCOL)
+    r = quick["shading_core_bmc_small_quick"]
+    assert r.ok and r.status == "bounded", r.detail
+    assert set(r.job.properties) == set(formal_core.BOUNDED)
+    r = quick["shading_core_mutant_one_pixel_too_many"]
+    assert r.ok and r.status == "failed", r.detail
+    assert r.detail.startswith("tlast_exact fails at step"), r.detail
+
+
+def test_core_property_files_mutants_and_doc_agree() -> None:
+    """The core's two property files, its mutants, helper wires, configuration and
+    docs/formal.md agree with each other and with the RTL and the model of the core."""
+    from model.render import core, pipeline  # model.hw does not import model.render
+
+    m = formal_core
+    text = CORE_PROPS.read_text() + AXIS_PROPS.read_text()
+    for path in (CORE_PROPS, AXIS_PROPS):
+        assert path.read_text().splitlines()[0] == "// SPDX-License-Identifier: Apache-2.0"
+    for label in m.PROPERTIES:
+        assert re.search(rf"\b{label}: assert\(", text), label
+    for label in m.COVERS:
+        assert re.search(rf"\b{label}: cover\(", text), label
+    assert set(m.PROTOCOL) | set(m.BOUNDED) == set(m.PROPERTIES)
+    assert not set(m.PROTOCOL) & set(m.BOUNDED)
+    rtl = (ROOT / "rtl" / "shading_core.v").read_text()
+    fifo = (ROOT / "rtl" / "shading_axis_fifo.v").read_text()
+    for wire, reg in m.INTERNALS.items():
+        assert re.search(rf"wire .*\b{wire};", text), wire
+        name = reg.split(".")[-1]
+        assert re.search(rf"reg .*\b{name};", fifo if reg.startswith("u_fifo.") else rtl), reg
+    assert {x.breaks for x in m.MUTANTS.values()} == set(m.PROPERTIES)
+    for x in m.MUTANTS.values():
+        assert rtl.count(x.original) == 1, x.name
+    doc = DOC.read_text()
+    for name in [*m.PROPERTIES, *m.COVERS, *m.MUTANTS]:
+        assert f"`{name}`" in doc, name
+    # the reduced configuration names every parameter of the core (model.render.core), the
+    # ROM images being the placeholders; the wait bound reads the core's latency
+    params = core.core_parameters(pipeline.PipelineConfig())
+    assert set(m.CONFIGS["small"]) | set(m.ROM_PARAMETERS) == set(params)
+    assert m.LATENCY == core.LATENCY
+    assert re.search(rf"\bSTAGES = {core.PIXEL_PIPE - 2};", rtl), "v_reg's width"
+    full = formal.jobs("shading_core")
+    assert {j.kind for j in full} == {"prove", "bmc", "cover", "mutant"}
+    assert len([j for j in full if j.kind == "mutant"]) == len(m.MUTANTS)
 
 
 def check_property_file(props, module, unit: str, labels: list[str]) -> list:
