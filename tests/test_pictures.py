@@ -7,9 +7,9 @@ with the Pillow, matplotlib and zlib versions.  The demo sheet's numbers are rec
 in-process at the recorded scene and size (about a second): any change to what it shows (a
 shading method, the renderer, the scene, a label, the error scale, its ticks or colours) fails
 the test until `make pictures` is rerun.
-The trade figure's sweep takes half a minute, so its numbers are compared with the local sweep's
-(out/trade/results.csv, left by `make pictures` or `make trade`) when there is one of the same
-scenes and size; without one, only its record is checked.
+The trade figure's numbers are recomputed by a fresh in-process sweep of its recorded scenes and
+size (half a minute).  Nothing untracked is read: not out/trade/ (a local sweep may be stale or of
+another grid), only docs/pictures.json and the tracked sources.
 """
 
 from __future__ import annotations
@@ -37,11 +37,21 @@ def recorded() -> dict:
     return json.loads(RECORD.read_text())["pictures"]
 
 
+def tracked() -> set[str]:
+    """The files git tracks, from the repository root: the only files these tests read."""
+    out = subprocess.run(
+        ["git", "ls-files"], cwd=ROOT, capture_output=True, text=True, check=True
+    ).stdout
+    return set(out.splitlines())
+
+
 def shown_pictures() -> list[tuple[str, str]]:
-    """(markdown file, picture) of every local picture README.md and docs/**/*.md show, the
-    picture's path from the repository root."""
+    """(markdown file, picture) of every local picture the tracked README.md and docs/**/*.md
+    show, the picture's path from the repository root."""
     found = []
-    for md in [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]:
+    files = tracked()
+    pages = ["README.md", *sorted(f for f in files if f.startswith("docs/") and f.endswith(".md"))]
+    for md in (ROOT / page for page in pages):
         for m in IMAGE_REF.finditer(md.read_text()):
             target = (m.group(1) or m.group(2)).split("#")[0]
             if "://" in target or target.startswith("data:"):
@@ -68,8 +78,13 @@ def test_every_picture_the_docs_show_exists_and_is_recorded() -> None:
     shown = shown_pictures()
     assert ("README.md", report.DEMO_SHEET) in shown  # the pattern finds the README's pictures
     pictures = recorded()
+    files = tracked()
+    assert Path(report.PICTURES_JSON).as_posix() in files, (
+        f"{report.PICTURES_JSON} is not committed"
+    )
     for md, picture in shown:
         assert (ROOT / picture).is_file(), f"{md} shows {picture}, which does not exist: {RERUN}"
+        assert picture in files, f"{md} shows {picture}, which git does not track: commit it"
         assert picture in pictures, (
             f"{md} shows {picture}, which {report.PICTURES_JSON} does not list: make it in "
             "`make pictures` (model.study.report.record_pictures)"
@@ -77,6 +92,7 @@ def test_every_picture_the_docs_show_exists_and_is_recorded() -> None:
     recipe = make_pictures_recipe()
     for picture, entry in pictures.items():
         assert (ROOT / picture).is_file(), f"{picture} is listed but missing: {RERUN}"
+        assert picture in files, f"{picture} is listed but git does not track it: commit it"
         assert entry["command"] in recipe, f"{picture}: `{entry['command']}` is not in {recipe}"
         assert re.fullmatch(r"[0-9a-f]{64}", entry["data_sha256"])
     assert "python -m model.study.report pictures" in recipe  # writes the record
@@ -137,33 +153,29 @@ def test_the_sheet_digest_sees_one_level_in_one_pixel() -> None:
 
 
 def test_trade_figure_is_drawn_from_the_current_sweep(tmp_path: Path) -> None:
-    """The trade figure's numbers are the ones the sweep gives now: from the local sweep when
-    out/trade holds the figure's (scenes, sizes), else from a fresh in-process sweep of them
-    (the small grid: about a minute on one core)."""
+    """The trade figure's numbers are the ones the sweep gives now: a fresh in-process sweep of
+    the figure's recorded scenes and size into a temporary folder (the small grid, its own
+    cache; half a minute on one core), never a local out/trade/ sweep."""
+    from model.study import trade
+
     entry = recorded()[report.TRADE_FIGURE]
     assert entry["command"] == report.TRADE_COMMAND
-    results = ROOT / "out" / "trade" / "results.csv"
-    wanted = {k: entry[k] for k in ("scenes", "sizes")}
-    local = report.trade_results_record(results) if results.is_file() else None
-    if local is None or {k: local[k] for k in ("scenes", "sizes")} != wanted:
-        from model.study import trade
-
-        assert len(entry["sizes"]) == 1, entry
-        status = trade.main(
-            scenes=entry["scenes"],
-            size=entry["sizes"][0],
-            out_dir=tmp_path,
-            workers=0,
-            repeats=1,
-            part="none",  # the synthesised columns are not in the digest
-        )
-        assert status == 0
-        results = tmp_path / "results.csv"
+    assert len(entry["sizes"]) == 1, entry
+    status = trade.main(
+        scenes=entry["scenes"],
+        size=entry["sizes"][0],
+        out_dir=tmp_path,
+        workers=0,
+        repeats=1,
+        part="none",  # the synthesised columns are not in the digest
+    )
+    assert status == 0
+    results = tmp_path / "results.csv"
     now = report.trade_results_record(results)
+    assert {k: now[k] for k in ("scenes", "sizes")} == {k: entry[k] for k in ("scenes", "sizes")}
     assert now["data_sha256"] == entry["data_sha256"], (
-        f"{report.TRADE_FIGURE} was drawn from other results ({entry['rows']} rows) than "
-        f"{results} holds now ({now['rows']} rows): the sweep changed, {RERUN} (or "
-        "out/trade holds another grid, such as --grid full: move it aside)"
+        f"{report.TRADE_FIGURE} was drawn from other results ({entry['rows']} rows) than the "
+        f"sweep gives now ({now['rows']} rows): the sweep changed, {RERUN}"
     )
 
 
