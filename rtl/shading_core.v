@@ -741,7 +741,10 @@ generate
 endgenerate
 
 // ---------------------------------------------------------------- the sum, the output FIFO
-localparam SUM_WIDTH = ((I_INT > OUT_WIDTH) ? I_INT : OUT_WIDTH) + 2;
+// Gouraud + highlight + diffuse, wide enough for the three and at least 9 bits (the
+// comparison with 255 and the 8-bit select read real bits at every width)
+localparam SUM_RAW = ((I_INT > OUT_WIDTH) ? I_INT : OUT_WIDTH) + 2;
+localparam SUM_WIDTH = (SUM_RAW > 9) ? SUM_RAW : 9;
 wire [SIDE-1:0]   side_out = side_reg[(STAGES-1)*SIDE +: SIDE];
 wire [3*8-1:0]    rgb;
 generate
@@ -788,9 +791,10 @@ shading_axis_fifo #(
     .m_axis_tready(m_axis_tready)
 );
 
-// Span-beat bits past the fields, and the fields a path this core was built without
+// Span-beat bits past the fields, and what a path this core was built without leaves unread
 // verilator lint_off UNUSEDSIGNAL
-wire unused_in = &{1'b0, s_axis_tdata, a_diff_q, dec_index, n_off, diff_addr};
+wire unused_in = &{1'b0, s_axis_tdata, a_diff_q, dec_index, n_off, diff_addr, a_addr, c_reg,
+                   a_reg, tsel_reg, szero_reg, dzero_reg, dc_reg, spec_addr, spec_q, diff_q};
 // verilator lint_on UNUSEDSIGNAL
 
 endmodule

@@ -127,7 +127,7 @@ def run_words(
     ``core.core_pixels`` of the same words."""
     if not words:
         raise ValueError("words is empty: the core's bench needs at least one span beat")
-    want = core.core_pixels(words, fmt)
+    want = core.core_pixels(words, fmt, bool(params["SPECULAR"]), bool(params["DIFFUSE"]))
     command, folder, build_s = build(params, sim, rtl)
     work = SIM_BUILD / f"{tag}_{os.getpid()}"  # one folder per process: xdist runs side by side
     work.mkdir(parents=True, exist_ok=True)

@@ -406,3 +406,35 @@ def test_the_data_sheet_s_resources_are_the_synthesis_record():
     section = text.split("## Resources\n", 1)[1].split("\n## ", 1)[0]
     rows = [line for line in section.splitlines() if line.startswith("| ") and "---" not in line]
     assert rows[1:] == want
+
+
+@pytest.mark.parametrize("name", ["narrow", "kept", "up5k"])
+def test_the_configurations_users_ship_through_the_core(name):
+    """Narrow widths (4-bit Gouraud levels and 4-bit highlights: the sum's width at its
+    smallest), the kept range of n (N_FIRST > 1, as shading fit emits; no diffuse path) and
+    the UP5K tables: random span beats, idles and stalls, every pixel compared."""
+    from dataclasses import replace
+
+    from model.units import divider
+
+    g = gouraud.GouraudConfig(i_int=4, i_frac=4, p=2, len_width=7)
+    cfg = {
+        "narrow": PipelineConfig(
+            divider=divider.DividerConfig(a_width=9, k_width=7, recip_bits=8),
+            gouraud=g,
+            specular=replace(specular.NARROW, out_width=4),
+            diffuse_mode="unit",
+        ),
+        "kept": PipelineConfig(
+            divider=divider.DividerConfig(a_width=13, k_width=7, recip_bits=8),
+            gouraud=gouraud.GouraudConfig(i_int=8, i_frac=4, p=2, len_width=7),
+            specular=specular.KEPT,
+        ),
+        "up5k": PipelineConfig(specular=specular.UP5K, diffuse_mode="unit"),
+    }[name]
+    fmt = core.SpanFormat(cfg)
+    words = random_words(fmt, 120, seed=9)
+    params = core_run.parameters(cfg, core_run.SIM_BUILD / f"core_{name}_roms")
+    r = core_run.run_words(words, fmt, params, idle_pct=20, stall_pct=30, seed=5,
+                           tag=f"core_{name}")  # fmt: skip
+    assert r.mismatches == []

@@ -223,10 +223,29 @@ def _diffuse_check(cfg: PipelineConfig) -> None:
         )
 
 
-def core_pixels(words: list[int], fmt: SpanFormat) -> list[dict[str, int]]:
+def default_paths(cfg: PipelineConfig) -> tuple[bool, bool]:
+    """(highlight path, diffuse path): the paths a core for ``cfg``'s modes is built with."""
+    return cfg.specular_mode != "vertex", cfg.diffuse_mode != "gouraud"
+
+
+def core_pixels(
+    words: list[int],
+    fmt: SpanFormat,
+    specular_path: bool | None = None,
+    diffuse_path: bool | None = None,
+) -> list[dict[str, int]]:
     """What leaves the core's output port for the span beats ``words``, in order: per pixel
-    x, y, r, g, b, ``last`` (tlast) and ``n_err`` (tuser), from the units' public calls."""
+    x, y, r, g, b, ``last`` (tlast) and ``n_err`` (tuser), from the units' public calls, for a
+    core built with the given paths (default: ``default_paths``).  A span whose flag asks for a
+    path the core lacks gets 0 for that term and tuser = 1, as does a refused n; x counts on
+    modulo 2**x_width, as the core's column register does."""
     cfg = fmt.cfg
+    paths = default_paths(cfg)
+    has_spec = paths[0] if specular_path is None else bool(specular_path)
+    has_diff = paths[1] if diffuse_path is None else bool(diffuse_path)
+    if has_diff:
+        _diffuse_check(cfg)
+    x_mask = (1 << fmt.x_width) - 1
     d, g, sp = cfg.divider, cfg.gouraud, cfg.specular
     layout = fmt.layout()
     out: list[dict[str, int]] = []
@@ -242,11 +261,14 @@ def core_pixels(words: list[int], fmt: SpanFormat) -> list[dict[str, int]]:
                 di = int(increment_from_quotient(np.array([q]), cfg)[0])
             total[:, c] = gouraud.shade_line(f[f"i_start{c}"], di, n_px, g)
         n_err = 0
-        if f["spec"]:
+        if f["spec"] and not has_spec:
+            n_err = 1
+        elif f["spec"]:
             line, n_err = specular.unit_line(f["c"], f["dz"], f["z0"], f["n"], l_int, sp)
             total += np.asarray(line, dtype=np.int64)[:, None]
-        if f["diff"]:
-            _diffuse_check(cfg)
+        if f["diff"] and not has_diff:
+            n_err = 1
+        elif f["diff"]:
             for c in range(CHANNELS):
                 total[:, c] += specular.shade_line(
                     f[f"diff_c{c}"], f["diff_dz"], f["diff_z0"], DIFFUSE_N, l_int, sp
@@ -255,7 +277,7 @@ def core_pixels(words: list[int], fmt: SpanFormat) -> list[dict[str, int]]:
         for x in range(n_px):
             out.append(
                 {
-                    "x": f["x"] + x,
+                    "x": (f["x"] + x) & x_mask,
                     "y": f["y"],
                     "r": int(rgb[x, 0]),
                     "g": int(rgb[x, 1]),
@@ -296,10 +318,9 @@ def core_parameters(
     d, g, s = cfg.divider, cfg.gouraud, cfg.specular
     spec = dict(s.hdl_parameters())
     spec["SPEC_LEN_WIDTH"] = spec.pop("LEN_WIDTH")
-    if specular_path is None:
-        specular_path = cfg.specular_mode != "vertex"
-    if diffuse_path is None:
-        diffuse_path = cfg.diffuse_mode != "gouraud"
+    paths = default_paths(cfg)
+    specular_path = paths[0] if specular_path is None else specular_path
+    diffuse_path = paths[1] if diffuse_path is None else diffuse_path
     if diffuse_path:
         _diffuse_check(cfg)
     return {
