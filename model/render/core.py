@@ -60,21 +60,54 @@ def _round8(bits: int) -> int:
     return -(-bits // 8) * 8
 
 
+class BeatFormat:
+    """A beat's fields, low bits first: ``fields`` (name, width) in order, what the beat takes
+    of them (``bits``), the tdata width (``width``: whole bytes) and ``layout``."""
+
+    x_width: int
+    y_width: int
+
+    @property
+    def fields(self) -> tuple[tuple[str, int], ...]:
+        raise NotImplementedError
+
+    def _check_xy(self) -> None:
+        for name in ("x_width", "y_width"):
+            value = getattr(self, name)
+            if not 1 <= value <= 16:
+                raise ValueError(f"{name} = {value} is out of range: legal range is 1..16")
+
+    @property
+    def bits(self) -> int:
+        """Bits the fields take (the rest of the beat, up to ``width``, is zero)."""
+        return sum(w for _, w in self.fields)
+
+    @property
+    def width(self) -> int:
+        """``tdata`` width: the fields rounded up to whole bytes."""
+        return _round8(self.bits)
+
+    def layout(self) -> list[tuple[str, int, int]]:
+        """(name, low bit, width) of every field."""
+        out, at = [], 0
+        for name, w in self.fields:
+            out.append((name, at, w))
+            at += w
+        return out
+
+
 @dataclass(frozen=True)
-class SpanFormat:
-    """The span beat's fields, low bits first (docs/core.md, "Span beat").  Widths follow the
-    pipeline configuration: ``len_width`` of the Gouraud unit for l, the Gouraud register width
-    for the intensities, the specular unit's C and z widths."""
+class SpanFormat(BeatFormat):
+    """The span beat (docs/core.md, "Span beat").  Widths follow the pipeline configuration:
+    ``len_width`` of the Gouraud unit for l, the Gouraud register width for the intensities,
+    the specular unit's C and z widths."""
 
     cfg: PipelineConfig
     x_width: int = X_WIDTH
     y_width: int = Y_WIDTH
 
     def __post_init__(self) -> None:
-        for name in ("x_width", "y_width"):
-            value = getattr(self, name)
-            if not 1 <= value <= 16:
-                raise ValueError(f"{name} = {value} is out of range: legal range is 1..16")
+        self._check_xy()
 
     @property
     def fields(self) -> tuple[tuple[str, int], ...]:
@@ -97,50 +130,20 @@ class SpanFormat:
             ("diff_z0", zw),
         )
 
-    @property
-    def bits(self) -> int:
-        """Bits the fields take (the rest of the beat, up to ``width``, is zero)."""
-        return sum(w for _, w in self.fields)
-
-    @property
-    def width(self) -> int:
-        """``s_axis_tdata`` width: the fields rounded up to whole bytes."""
-        return _round8(self.bits)
-
-    def layout(self) -> list[tuple[str, int, int]]:
-        """(name, low bit, width) of every field."""
-        out, at = [], 0
-        for name, w in self.fields:
-            out.append((name, at, w))
-            at += w
-        return out
-
 
 @dataclass(frozen=True)
-class PixelFormat:
-    """The pixel beat's fields, low bits first: x, y, R, G, B (docs/core.md, "Pixel beat")."""
+class PixelFormat(BeatFormat):
+    """The pixel beat: x, y, R, G, B (docs/core.md, "Pixel beat")."""
 
     x_width: int = X_WIDTH
     y_width: int = Y_WIDTH
 
+    def __post_init__(self) -> None:
+        self._check_xy()
+
     @property
     def fields(self) -> tuple[tuple[str, int], ...]:
         return (("x", self.x_width), ("y", self.y_width), ("r", 8), ("g", 8), ("b", 8))
-
-    @property
-    def bits(self) -> int:
-        return sum(w for _, w in self.fields)
-
-    @property
-    def width(self) -> int:
-        return _round8(self.bits)
-
-    def layout(self) -> list[tuple[str, int, int]]:
-        out, at = [], 0
-        for name, w in self.fields:
-            out.append((name, at, w))
-            at += w
-        return out
 
 
 SIGNED = ("dz", "z0", "diff_dz", "diff_z0")
