@@ -1,10 +1,11 @@
 # SPDX-License-Identifier: Apache-2.0
 """Shared pytest set-up: the two tiers (tests/tiers.py), the RTL regression summary, the seed
-variables checked once."""
+variables checked once, the teapot file every test that reads it asks for."""
 
 from __future__ import annotations
 
 from collections import defaultdict
+from pathlib import Path
 
 import pytest
 
@@ -35,6 +36,28 @@ def pytest_collection_modifyitems(config, items) -> None:
             "tests/tiers.py names tests that do not exist (renamed or removed?): "
             + ", ".join(stale)
         )
+
+
+def teapot_path() -> Path:
+    """data/teapot.bez ($SHADING_DATA/teapot.bez if set), or a plain test failure naming the
+    file and how to fetch it: tests never fetch it themselves."""
+    from model.render import meshes
+
+    path = meshes.TEAPOT_PATH
+    if not path.is_file():
+        pytest.fail(
+            f"{path} is missing: the teapot's patches are fetched by `make setup` "
+            f"(or {meshes.TEAPOT_FETCH}) before the tests run",
+            pytrace=False,
+        )
+    return path
+
+
+@pytest.fixture(scope="session")
+def teapot_file() -> Path:
+    """The teapot's Bezier patch file: every test that reads it (the built-in scene "teapot",
+    the demo's default scene, the fit record's scene) asks for this fixture."""
+    return teapot_path()
 
 
 def record_sim(request, records: list[dict]) -> None:

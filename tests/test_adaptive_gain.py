@@ -43,7 +43,7 @@ def test_verdict_reads_the_claim() -> None:
     assert "not less than for larger n" in adaptive.verdict(rows, "g")
 
 
-def test_the_frame_clock_gains_docs_scenes_quotes() -> None:
+def test_the_frame_clock_gains_docs_scenes_quotes(teapot_file) -> None:
     """docs/scenes.md: in frame clocks the teapot gains 1.01x at n = 2, 1.96x at n = 20 and
     2.38x from n = 30 on, the sphere 1.22x from n = 10 on (counts, not timings)."""
     gain = {
@@ -61,7 +61,7 @@ def test_the_frame_clock_gains_docs_scenes_quotes() -> None:
     }
 
 
-def test_gain_in_cpu_time_is_reported() -> None:
+def test_gain_in_cpu_time_is_reported(teapot_file) -> None:
     """Beside the wall-clock gain, the gain in the shading thread's CPU time (what other
     processes on a busy machine do not change)."""
     rows = adaptive.adaptive_gain("teapot", 40, ns=(100,), repeats=1)

@@ -397,10 +397,8 @@ def test_huge_normal_is_normalised_like_any_other() -> None:
 
 
 @pytest.fixture(scope="module")
-def teapot_lines() -> list[str]:
-    if not meshes.TEAPOT_PATH.is_file():
-        subprocess.run([str(ROOT / meshes.TEAPOT_FETCH)], cwd=ROOT, check=True)
-    return meshes.TEAPOT_PATH.read_text().splitlines()
+def teapot_lines(teapot_file) -> list[str]:
+    return teapot_file.read_text().splitlines()
 
 
 @pytest.mark.parametrize(

@@ -40,13 +40,13 @@ def signatures(mode: str) -> dict[str, list[str]]:
     return json.loads(done.stdout.strip().splitlines()[-1])
 
 
-def test_every_numba_function_is_compiled_once() -> None:
+def test_every_numba_function_is_compiled_once(teapot_file) -> None:
     found = signatures("plain")
     assert len(found) > 30 and any(found.values())
     twice = {name: sigs for name, sigs in found.items() if len(sigs) > 1}
     assert not twice, twice
 
 
-def test_a_second_signature_is_seen() -> None:
+def test_a_second_signature_is_seen(teapot_file) -> None:
     found = signatures("probe")
     assert len(found["model.units.fixed.saturate"]) >= 2

@@ -33,7 +33,7 @@ def threads_on_small_images(monkeypatch) -> None:
 
 
 @pytest.fixture(scope="module")
-def rasters() -> dict[str, raster.Raster]:
+def rasters(teapot_file) -> dict[str, raster.Raster]:
     return {
         name: raster.rasterise(scenefile.builtin_scene(name, SIZE, SIZE))
         for name in scenefile.SCENE_NAMES

@@ -46,7 +46,7 @@ def test_readme_quotes_the_record(record: dict) -> None:
     assert report.readme_sentence(record) in readme, STALE
 
 
-def test_search_finds_the_recorded_design(record: dict, tmp_path: Path) -> None:
+def test_search_finds_the_recorded_design(teapot_file, record: dict, tmp_path: Path) -> None:
     the_scene = scenefile.builtin_scene(record["scene"], record["size"], record["size"])
     frame_raster = raster.rasterise(the_scene)
     needs = analyse.analyse(frame_raster)
@@ -58,7 +58,9 @@ def test_search_finds_the_recorded_design(record: dict, tmp_path: Path) -> None:
     assert found.steps == record["steps"], STALE
 
 
-def test_recorded_design_gives_the_recorded_accuracy(record: dict, tmp_path: Path) -> None:
+def test_recorded_design_gives_the_recorded_accuracy(
+    teapot_file, record: dict, tmp_path: Path
+) -> None:
     cfg = _config(record, tmp_path)
     the_scene = scenefile.builtin_scene(record["scene"], record["size"], record["size"])
     ref = shade.render(the_scene, reference.exact_blinn).rgb
@@ -67,7 +69,7 @@ def test_recorded_design_gives_the_recorded_accuracy(record: dict, tmp_path: Pat
     assert metrics.nmse(img, ref) <= metrics.NMSE_VISUALLY_IDENTICAL
 
 
-def test_synthesised_design_is_todays_files(record: dict, tmp_path: Path) -> None:
+def test_synthesised_design_is_todays_files(teapot_file, record: dict, tmp_path: Path) -> None:
     """The placed designs are the shading core of today's RTL, ROM images and parameters: the
     fitted configuration's, and the default design's."""
     cfg = _config(record, tmp_path)

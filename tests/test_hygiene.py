@@ -34,3 +34,27 @@ def test_every_given_sets_its_deadline() -> None:
             if not deadline:
                 missing.append(f"{path.name}::{node.name}")
     assert not missing, f"@given without @settings(deadline=...): {missing}"
+
+
+def test_a_missing_teapot_fails_plainly_and_no_test_fetches_it(monkeypatch, tmp_path) -> None:
+    """The teapot fixture names the missing file and `make setup` / the fetch script; no test
+    file runs the fetch itself (the Makefile's setup does, before pytest)."""
+    import pytest
+
+    from model.render import meshes
+    from tests.conftest import teapot_path
+
+    missing = tmp_path / "teapot.bez"
+    monkeypatch.setattr(meshes, "TEAPOT_PATH", missing)
+    with pytest.raises(pytest.fail.Exception) as caught:
+        teapot_path()
+    message = str(caught.value)
+    assert str(missing) in message and "make setup" in message, message
+    assert meshes.TEAPOT_FETCH in message and "\n" not in message, message
+    this = Path(__file__).resolve()
+    fetching = [
+        p.name
+        for p in sorted(TESTS.glob("test_*.py"))
+        if p.resolve() != this and "TEAPOT_FETCH" in p.read_text()
+    ]
+    assert not fetching, f"tests that fetch the teapot themselves: {fetching}"

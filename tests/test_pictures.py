@@ -21,9 +21,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
-import pytest
 
-from model.render import meshes
 from model.study import images, report
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -98,16 +96,6 @@ def test_every_picture_the_docs_show_exists_and_is_recorded() -> None:
     assert "python -m model.study.report pictures" in recipe  # writes the record
 
 
-@pytest.fixture(scope="module")
-def teapot_file() -> Path:
-    """data/teapot.bez (``make setup`` fetches it; fetched here if a fresh tree lacks it)."""
-    if not meshes.TEAPOT_PATH.is_file():
-        subprocess.run(
-            [str(meshes.REPO_ROOT / meshes.TEAPOT_FETCH)], cwd=meshes.REPO_ROOT, check=True
-        )
-    return meshes.TEAPOT_PATH
-
-
 def test_demo_sheet_shows_what_the_demo_draws_now(teapot_file) -> None:
     entry = recorded()[report.DEMO_SHEET]
     assert entry["command"] == report.DEMO_COMMAND
@@ -152,7 +140,7 @@ def test_the_sheet_digest_sees_one_level_in_one_pixel() -> None:
     assert images.data_digest([0.3]) != images.data_digest([0.30001])
 
 
-def test_trade_figure_is_drawn_from_the_current_sweep(tmp_path: Path) -> None:
+def test_trade_figure_is_drawn_from_the_current_sweep(teapot_file, tmp_path: Path) -> None:
     """The trade figure's numbers are the ones the sweep gives now: a fresh in-process sweep of
     the figure's recorded scenes and size into a temporary folder (the small grid, its own
     cache; half a minute on one core), never a local out/trade/ sweep."""

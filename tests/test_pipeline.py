@@ -76,7 +76,7 @@ def test_assemble_sums_and_saturates() -> None:
 
 
 @pytest.mark.parametrize("name", ["sphere", "torus", "teapot", "quad"])
-def test_hybrid_is_visually_identical_to_exact_blinn(name: str) -> None:
+def test_hybrid_is_visually_identical_to_exact_blinn(teapot_file, name: str) -> None:
     """The thesis's criterion: NMSE <= 0.00025 against the accuracy reference (a)."""
     r = raster.rasterise(scenefile.builtin_scene(name, 128, 128))
     ref = shade(r, reference.exact_blinn).rgb
@@ -265,7 +265,9 @@ def test_diffuse_unit_beats_gouraud_diffuse_on_a_coarse_mesh() -> None:
     assert figures["diffuse"] <= metrics.NMSE_VISUALLY_IDENTICAL < figures["hybrid"]
 
 
-def test_adaptive_diffuse_is_the_unit_on_flagged_triangles_and_gouraud_elsewhere() -> None:
+def test_adaptive_diffuse_is_the_unit_on_flagged_triangles_and_gouraud_elsewhere(
+    teapot_file,
+) -> None:
     r = raster.rasterise(scenefile.builtin_scene("teapot", 96, 96))
     adaptive = PipelineConfig(diffuse_mode="adaptive")
     frames = {

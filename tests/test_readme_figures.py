@@ -19,7 +19,7 @@ ROW = re.compile(r"^\| \((\w)\) `(\w+)` \| [^|]+ \| ([0-9.]+) \| (\d+) \| (\d+) 
 
 
 @pytest.fixture(scope="module")
-def run() -> report.SceneRun:
+def run(teapot_file) -> report.SceneRun:
     return report.run_methods("teapot", 256)
 
 
@@ -69,7 +69,7 @@ def test_scenes_page_measured_table_is_the_demo_table(run: report.SceneRun) -> N
         assert [x.strip() for x in cells.strip(" |").split("|")] == _cells(r), r.label
 
 
-def test_scenes_page_per_scene_nmse_at_128() -> None:
+def test_scenes_page_per_scene_nmse_at_128(teapot_file) -> None:
     """The sentence 'measured NMSE 0.000008 (quad), 0.000059 (sphere), ...' and the ranges of the
     prototype and Gouraud only, recomputed over the four built-in scenes at 128 x 128."""
     text = " ".join(SCENES_DOC.read_text().split())

@@ -118,7 +118,9 @@ def test_gouraud_float_interpolates_vertex_values() -> None:
 
 
 @pytest.mark.parametrize("name", scenefile.SCENE_NAMES)
-def test_builtin_scenes_show_a_highlight_and_the_references_differ_sensibly(name) -> None:
+def test_builtin_scenes_show_a_highlight_and_the_references_differ_sensibly(
+    teapot_file, name
+) -> None:
     sc = scenefile.builtin_scene(name, 96, 96)
     r = rasterise(sc)
     a = shade(r, reference.exact_blinn)
@@ -207,7 +209,7 @@ def test_highlight_test_is_exact_for_a_constant_h(coords, n, thr) -> None:
 
 
 @pytest.mark.parametrize("name", scenefile.SCENE_NAMES)
-def test_no_visible_highlight_lies_in_a_triangle_flagged_without_one(name) -> None:
+def test_no_visible_highlight_lies_in_a_triangle_flagged_without_one(teapot_file, name) -> None:
     sc = scenefile.builtin_scene(name, 128, 128)
     flags = reference.object_highlight_flags(sc, 0, levels=0.5)
     frame = render(sc, reference.exact_blinn)
@@ -267,7 +269,7 @@ def _variants(sc: Scene):
 
 
 @pytest.mark.parametrize("name", scenefile.SCENE_NAMES)
-def test_highlight_kernel_decides_as_numpy_on_every_builtin_scene(name) -> None:
+def test_highlight_kernel_decides_as_numpy_on_every_builtin_scene(teapot_file, name) -> None:
     """Every triangle of every built-in scene, under both kinds of H, at n from 1 to 1000,
     thresholds from 0.05 to 200 levels and with back faces flipped or not: the same bools."""
     for sc in _variants(scenefile.builtin_scene(name, 96, 96)):

@@ -9,7 +9,7 @@ from pathlib import Path
 from model.study import scaling
 
 
-def test_scaling_rows_table_and_plot(tmp_path: Path) -> None:
+def test_scaling_rows_table_and_plot(teapot_file, tmp_path: Path) -> None:
     rows = scaling.scaling(sizes=(16, 32), subdivisions=(0, 1), mesh_size=32, repeats=1,
                            progress=False)  # fmt: skip
     assert len(rows) == (2 + 2) * len(scaling.METHODS)

@@ -4,24 +4,12 @@ bad input."""
 
 from __future__ import annotations
 
-import subprocess
-
 import numpy as np
 import pytest
 import trimesh
 
 from model.render import meshes, meshfile, scenefile
 from model.render.scene import Camera, Light, Material, Mesh, Scene, SceneObject
-
-
-@pytest.fixture(scope="module")
-def teapot_file():
-    """data/teapot.bez (``make setup`` fetches it; fetched here if a fresh tree lacks it)."""
-    if not meshes.TEAPOT_PATH.is_file():
-        subprocess.run(
-            [str(meshes.REPO_ROOT / meshes.TEAPOT_FETCH)], cwd=meshes.REPO_ROOT, check=True
-        )
-    return meshes.TEAPOT_PATH
 
 
 def _check_mesh(mesh: Mesh) -> None:

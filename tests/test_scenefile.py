@@ -43,7 +43,7 @@ def _same_scene(a: Scene, b: Scene) -> None:
 
 
 @pytest.mark.parametrize("name", SCENE_NAMES)
-def test_each_builtin_scene_is_its_shipped_file(name: str, tmp_path) -> None:
+def test_each_builtin_scene_is_its_shipped_file(teapot_file, name: str, tmp_path) -> None:
     """A copy of the shipped file, anywhere, is the built-in scene (the examples are real)."""
     copy = tmp_path / f"my_{name}.toml"
     shutil.copy(SCENE_DIR / f"{name}.toml", copy)

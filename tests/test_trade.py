@@ -478,7 +478,7 @@ def _fitted_config(tmp_path):
     return configfile.write_config(cfg, path), cfg
 
 
-def test_config_file_is_a_point_marked_on_every_plot(tmp_path, monkeypatch, capsys):
+def test_config_file_is_a_point_marked_on_every_plot(teapot_file, tmp_path, monkeypatch, capsys):
     """--config FILE: the file's configuration over the scenes, labelled fit:<folder>, keyed by
     its content; a scene it refuses is reported, not a failure; every plot marks it and the
     default."""
