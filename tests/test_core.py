@@ -107,7 +107,9 @@ def test_the_core_model_gives_the_pipeline_image_on_a_scene():
 
 
 @pytest.mark.parametrize("method", ["hybrid", "diffuse"])
-def test_teapot_256_through_the_core_is_the_model_frame_at_one_pixel_per_clock(method, request):
+def test_teapot_256_through_the_core_is_the_model_frame_at_one_pixel_per_clock(
+    method, request, teapot_file
+):
     r = core_run.cosimulate("teapot", 256, method)
     assert r.equal
     assert r.run.cycles == r.model_cycles == core.LATENCY + r.run.pixels
@@ -131,7 +133,7 @@ def test_teapot_256_through_the_core_is_the_model_frame_at_one_pixel_per_clock(m
 
 @pytest.mark.parametrize("scene", ["sphere", "torus", "teapot", "quad"])
 @pytest.mark.parametrize("method", list(METHODS))
-def test_every_scene_and_method_at_64_is_the_model_frame(scene, method):
+def test_every_scene_and_method_at_64_is_the_model_frame(scene, method, teapot_file):
     r = core_run.cosimulate(scene, 64, method, tag=f"core_{scene}_{method}")
     assert r.equal
     assert r.run.cycles == r.model_cycles
@@ -210,7 +212,7 @@ def test_the_data_sheet_gives_every_field_bit_by_bit_as_the_packer_packs_it():
         assert _doc_table(heading) == want, heading
 
 
-def test_sim_bench_prints_every_scene_and_method_through_the_core(capsys):
+def test_sim_bench_prints_every_scene_and_method_through_the_core(capsys, teapot_file):
     """``python -m sim bench``'s core table: every built-in scene and method, the frame equal
     to the model's and the clocks the model gives, the (c) and (h) targets on the scene."""
     from model.render import scenefile
@@ -226,7 +228,9 @@ def test_sim_bench_prints_every_scene_and_method_through_the_core(capsys):
     assert out.count("px/clk: ") == 2  # the (c) and (h) target lines (met at 256, not at 24)
 
 
-def test_the_teapot_s_fitted_configuration_through_the_core_is_the_model_frame(tmp_path):
+def test_the_teapot_s_fitted_configuration_through_the_core_is_the_model_frame(
+    tmp_path, teapot_file
+):
     """The configuration ``shading fit`` chose for the teapot (docs/fit_teapot.json): its core
     (narrow widths, one cos^16 table, the kept n = 40 only) gives the model's frame."""
     import json

@@ -171,7 +171,7 @@ def test_every_target_is_in_the_default_runs() -> None:
     assert ("shading_core", "hybrid", "ecp5-25f") in runs
 
 
-def test_the_record_is_current() -> None:
+def test_the_record_is_current(teapot_file) -> None:
     """docs/synth.json was made from the RTL, ROM images and parameters there are now, and holds
     every run of make synth (remake it: make synth SYNTH_ARGS='--record docs/synth.json')."""
     data = json.loads(RECORD.read_text())
