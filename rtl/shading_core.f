@@ -3,6 +3,8 @@
 // Verilator: -F rtl/shading_core.f (paths relative to this file); Icarus: iverilog -c shading_core.f in rtl/.
 // ROM images: $readmemh of `SHADING_ROM_DIR/<file>.hex, default "rom" (relative to the
 // tool's working folder); see rtl/specular_unit.f for another folder.
+divider_shift.v
+specular_unit.v
 shading_rom.v
 shading_increment.v
 shading_specular_pipe.v

@@ -172,7 +172,8 @@ localparam PIX_WIDTH_DERIVED = (PIX_BITS + 7) / 8 * 8;
 
 // ---------------------------------------------------------------- parameter check
 // The rules the core adds to the units' (the pipeline configuration's cross-checks,
-// model.render.pipeline.PipelineConfig); each ROM checks its image against the parameters.
+// model.render.pipeline.PipelineConfig; the units' own rules: "the units' own rules" below);
+// each ROM checks its image against the parameters.
 localparam LEN_MAX = (1 << LEN_WIDTH) - 1;
 generate
     if (X_WIDTH < 1 || X_WIDTH > 16) begin : g_check_x_width
@@ -225,6 +226,79 @@ generate
     if (PIX_WIDTH != PIX_WIDTH_DERIVED) begin : g_check_pix_width
         shading_core_PARAMETER_ERROR_PIX_WIDTH_must_be_X_WIDTH_plus_Y_WIDTH_plus_24_rounded_to_bytes
             u_error ();
+    end
+endgenerate
+
+// ---------------------------------------------------------------- the units' own rules
+// The divider's and the specular unit's legal parameter sets (the k ranges and ALPHA,
+// MAG_INT_BITS as the model derives it, the largest a in A_INT_BITS, ...) and their ROM images'
+// checks (ROM 9's kept range among them) are the units' own: an instance of each unit at the
+// core's parameters, its clock and inputs tied to 0 and its outputs unread, makes every tool
+// refuse what that unit refuses, by the same error names, and simulation check the images as
+// the unit does.  It drives nothing and its clock never ticks: synthesis removes it, and it
+// costs simulation nothing.
+// verilator lint_off UNUSEDSIGNAL
+wire                              rules_div_busy;
+wire                              rules_div_valid;
+wire [A_WIDTH+RECIP_BITS-1:0]     rules_div_q;
+wire                              rules_div_zero;
+wire                              rules_spec_busy;
+wire                              rules_spec_valid;
+wire [OUT_WIDTH-1:0]              rules_spec_intensity;
+wire                              rules_spec_n_err;
+// verilator lint_on UNUSEDSIGNAL
+divider_shift #(
+    .A_WIDTH(A_WIDTH),
+    .K_WIDTH(K_WIDTH),
+    .RECIP_BITS(RECIP_BITS),
+    .ROM_FILE(RECIP_ROM_FILE)
+) u_divider_rules (
+    .clk(1'b0),
+    .rst_n(1'b0),
+    .a_in({A_WIDTH{1'b0}}),
+    .a_we(1'b0),
+    .k_in({K_WIDTH{1'b0}}),
+    .k_we(1'b0),
+    .start(1'b0),
+    .busy(rules_div_busy),
+    .valid(rules_div_valid),
+    .q(rules_div_q),
+    .div_zero(rules_div_zero)
+);
+generate
+    if (SPECULAR != 0 || DIFFUSE != 0) begin : g_specular_rules
+        specular_unit #(
+            .C_INT_BITS(C_INT_BITS), .C_FRAC_BITS(C_FRAC_BITS), .Z_INT_BITS(Z_INT_BITS),
+            .Z_FRAC_BITS(Z_FRAC_BITS), .LEN_WIDTH(SPEC_LEN_WIDTH), .A_INT_BITS(A_INT_BITS),
+            .A_FRAC_BITS(A_FRAC_BITS), .ROM_ADDR_BITS(ROM_ADDR_BITS),
+            .ROM_DATA_BITS(ROM_DATA_BITS), .OUT_WIDTH(OUT_WIDTH), .NUM_TABLES(NUM_TABLES),
+            .N_HI0(N_HI0), .N_HI1(N_HI1), .N_HI2(N_HI2), .N_HI3(N_HI3), .K0(K0), .K1(K1),
+            .K2(K2), .K3(K3), .ALPHA(ALPHA), .MAG_INT_BITS(MAG_INT_BITS), .N_FIRST(N_FIRST),
+            .N_LAST(N_LAST), .A_ROM_FILE(A_ROM_FILE), .COS_ROM_FILE(COS_ROM_FILE)
+        ) u_specular_rules (
+            .clk(1'b0),
+            .rst_n(1'b0),
+            .c_in({(C_INT_BITS+C_FRAC_BITS){1'b0}}),
+            .c_we(1'b0),
+            .dz_in({(Z_INT_BITS+Z_FRAC_BITS){1'b0}}),
+            .dz_we(1'b0),
+            .z0_in({(Z_INT_BITS+Z_FRAC_BITS){1'b0}}),
+            .z0_we(1'b0),
+            .n_in(10'd0),
+            .n_we(1'b0),
+            .len_in({SPEC_LEN_WIDTH{1'b0}}),
+            .len_we(1'b0),
+            .start(1'b0),
+            .busy(rules_spec_busy),
+            .valid(rules_spec_valid),
+            .intensity(rules_spec_intensity),
+            .n_err(rules_spec_n_err)
+        );
+    end else begin : g_no_specular_rules
+        assign rules_spec_busy = 1'b0;
+        assign rules_spec_valid = 1'b0;
+        assign rules_spec_intensity = {OUT_WIDTH{1'b0}};
+        assign rules_spec_n_err = 1'b0;
     end
 endgenerate
 

@@ -180,6 +180,11 @@ def test_a_broken_core_is_caught_with_the_span_that_shows_it(tmp_path):
         ({"FIFO_DEPTH": 24}, "FIFO_DEPTH_must_be_a_power_of_2_from_16_to_4096"),
         ({"N_FIRST": 2, "DIFFUSE": 1}, "DIFFUSE_needs_N_FIRST_1"),
         ({"K_WIDTH": 9}, "K_WIDTH_must_reach_the_longest_span_s_intervals"),
+        # the units' own rules, by the units' own names
+        ({"MAG_INT_BITS": 2}, "specular_unit_PARAMETER_ERROR_MAG_INT_BITS_must_equal_the_model"),
+        ({"K3": 65}, "specular_unit_PARAMETER_ERROR_K_of_a_table_must_be_1_to_64"),
+        ({"ALPHA": "cubic"}, "specular_unit_PARAMETER_ERROR_ALPHA_must_be_taylor_or_inflection"),
+        ({"RECIP_BITS": 9}, "K_WIDTH_must_be_1_to_RECIP_BITS_plus_1"),
     ],
 )
 def test_a_bad_parameter_stops_elaboration_naming_the_rule(override, rule):
@@ -288,12 +293,14 @@ def test_a_soak_under_verilator_binary_scoreboards_every_pixel(request):
     record_sim(request, [{**record, "compared": r.pixels, "cycles": r.cycles, "seed": seed}])
 
 
+# The divider's own check (its instance u_divider_rules: "ROM_FILE") or the core's reciprocal
+# ROM ("RECIP_ROM_FILE"), whichever reads the image first, names the file and the field
 ROM_DAMAGE = {
-    "missing": r'RECIP_ROM_FILE ".*missing\.hex": word 0 is undefined',
-    "other": r'RECIP_ROM_FILE ".*": check field (magic|width|depth) is',
-    "short": r"RECIP_ROM_FILE .*: word \d+ is undefined",
-    "long": r"RECIP_ROM_FILE .*: the file has \d+ words, more than the \d+ of this image",
-    "data": r"RECIP_ROM_FILE .*: check field checksum is .*a data word differs",
+    "missing": r'ROM_FILE ".*missing\.hex": word 0 is undefined',
+    "other": r'ROM_FILE ".*": check field (magic|width|depth) is',
+    "short": r"ROM_FILE .*: word \d+ is undefined",
+    "long": r"ROM_FILE .*: the file has \d+ words, more than the \d+ of this image",
+    "data": r"ROM_FILE .*: check field checksum is .*a data word differs",
 }
 
 
