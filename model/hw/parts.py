@@ -4,9 +4,8 @@
 A ``Part`` names its Yosys synthesis command, its nextpnr place-and-route call (None: synthesis
 estimate only) and its capacity.  ``TARGETS`` holds the Fmax targets of the units (100 MHz on
 the ECP5-25F, 80 MHz on the HX8K, 40 MHz for the specular unit's UP5K configuration) and of the
-shading core,
-per unit (or top), configuration name and part; a (unit, configuration, part) with
-a target must fit and meet it.
+shading core, per unit (or top), configuration name and part; a (unit, configuration, part)
+with a target must fit and meet it.
 """
 
 from __future__ import annotations
