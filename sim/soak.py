@@ -73,6 +73,10 @@ def pick_value(rng: random.Random, port: Port, cfg: units.UnitConfig) -> int:
         edges = {0, 1, N_MAX, N_MAX + 1, (1 << port.width) - 1}
         for hi in cfg.n_hi:
             edges.update((hi, hi + 1))
+        if cfg.n_first > 1 or cfg.n_last < N_MAX:  # a kept range: its edges, and n inside it
+            edges.update((cfg.n_first - 1, cfg.n_first, cfg.n_last, cfg.n_last + 1))
+            if rng.random() < 0.3:
+                return rng.randint(cfg.n_first, cfg.n_last)
         return rng.choice(sorted(edges)) if rng.random() < 0.5 else rng.randint(0, N_MAX + 23)
     r = rng.random()
     if r < 0.35:

@@ -34,7 +34,7 @@ SHORT_SOAK = 20_000
 # divider cycle 0.1): the Python prediction, about 50k cycles/s, is what they cost.
 DEEP_CYCLES = {"divider_default": 150_000, "gouraud_default": 350_000, "specular_default": 350_000}
 
-# Every unit's default configuration deep; a few others for 20k.
+# Every unit's default configuration deep; a few others, and the ones users ship, for 20k.
 CONFIGS = {
     "divider_default": (divider.DEFAULT, DEEP_CYCLES["divider_default"]),
     "divider_article": (divider.ROM_CONFIGS["article"], SHORT_SOAK),
@@ -45,6 +45,10 @@ CONFIGS = {
     "specular_default": (specular.DEFAULT, DEEP_CYCLES["specular_default"]),
     "specular_narrow": (specular.ROM_CONFIGS["narrow"], SHORT_SOAK),
     "specular_inflection": (specular.ROM_CONFIGS["inflection"], SHORT_SOAK),
+    # the configurations users ship: the kept range of n (N_FIRST > 1, as shading fit emits)
+    # and the UP5K tables
+    "specular_kept": (specular.KEPT, SHORT_SOAK),
+    "specular_up5k": (specular.UP5K, SHORT_SOAK),
 }
 
 
