@@ -142,6 +142,19 @@ function integer pct(input [31:0] v);
     end
 endfunction
 
+// End the run with a non-zero exit status, what went wrong already printed: $fatal under
+// Icarus (vvp -n would end a $stop with 0), $stop under Verilator ($fatal is SystemVerilog)
+task fail;
+    begin
+        $fflush;
+`ifdef __ICARUS__
+        $fatal(1, "tb_shading_core: FAIL");
+`else
+        $stop;
+`endif
+    end
+endtask
+
 always #5 clk = ~clk;
 
 initial begin
@@ -156,12 +169,7 @@ initial begin
     if (n_spans < 1 || n_spans > MAX_SPANS) begin
         $display("tb_shading_core: +SPANS=%0d is out of range: legal is 1..%0d", n_spans,
                  MAX_SPANS);
-        $fflush;
-`ifdef __ICARUS__
-        $fatal(1, "tb_shading_core: FAIL");
-`else
-        $stop;
-`endif
+        fail;
     end
     $readmemh(span_file, spans, 0, n_spans - 1);
     fd = $fopen(out_file, "w");
@@ -171,12 +179,7 @@ initial begin
         expect_fd = $fopen(expect_file, "r");
         if (expect_fd == 0) begin
             $display("tb_shading_core: +EXPECT_FILE=%0s cannot be read", expect_file);
-            $fflush;
-`ifdef __ICARUS__
-            $fatal(1, "tb_shading_core: FAIL");
-`else
-            $stop;
-`endif
+            fail;
         end
     end
     lfsr = seed ^ 32'h5eed1234;
@@ -259,12 +262,7 @@ always @(posedge clk) begin
             if (errors + mismatches != 0 || received != n_pixels) begin
                 $display("tb_shading_core: FAIL: %0d protocol errors, %0d mismatches, %0d of %0d pixels",
                          errors, mismatches, received, n_pixels);
-                $fflush;
-`ifdef __ICARUS__
-                $fatal(1, "tb_shading_core: FAIL");
-`else
-                $stop;
-`endif
+                fail;
             end
             $finish;
         end
