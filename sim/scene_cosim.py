@@ -163,7 +163,9 @@ def _replay(
     stim, pred, started = job_stream(config, jobs)
     steps["predict"] = time.perf_counter() - t0
     t0 = time.perf_counter()
-    vectors = soak.write_vectors(spec, stim, pred.outputs, folder / "vectors.bin")
+    # only the RESET_ALL = 0 instance is built (RESET_MODES = 1): the RESET_ALL = 1 pair of
+    # each record is not read
+    vectors = soak.write_vectors(spec, stim, pred.outputs, folder / "vectors.bin", pred.outputs)
     steps["write"] = time.perf_counter() - t0
     verilog = soak.verilog_parameters({**params, "RESET_MODES": 1})
     built = prebuilt or vector_run.build(toplevel, verilog, sim, BUILD_CACHE)

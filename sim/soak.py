@@ -7,11 +7,14 @@ each write strobe and ``start`` at random, operand values from the extremes, val
 uniform ones, writes in the start cycle and in every busy cycle, and a short random reset now
 and then.  The protocol model (sim/protocol.py) predicts every output in every cycle.
 
-``run_soak(cfg, cycles, seed)`` writes the stimulus and the prediction as a binary vector file
-(one record per cycle: stimulus, expected outputs and their mask; ``write_vectors``, read by
-``$fread`` in sim/vectors/vector_loop.vh) and replays it through the unit in a plain Verilog
-bench (sim/vectors/tb_<unit>.v, no Python in the loop; one instance with RESET_ALL = 0 and one
-with RESET_ALL = 1), which compares every output with the prediction in every cycle.  The same
+``run_soak(cfg, cycles, seed)`` writes the stimulus and the predictions as a binary vector file
+(one record per cycle: stimulus, then expected outputs and their mask for RESET_ALL = 0, then
+for RESET_ALL = 1; ``write_vectors``, read by ``$fread`` in sim/vectors/vector_loop.vh) and
+replays it through the unit in a plain Verilog bench (sim/vectors/tb_<unit>.v, no Python in the
+loop; one instance with RESET_ALL = 0 and one with RESET_ALL = 1), which compares every output
+of each instance with that instance's prediction in every cycle: the RESET_ALL = 1 instance
+is held to its own reset rule (its data outputs read 0 from a reset to the next result, where
+RESET_ALL = 0 leaves them undefined).  The same
 file, for a fixed seed, is each committed vector set under sim/vectors/<set>/ (its
 ``vectors.bin``; sim/vector_sets.py, ``make vectors``).  Each mismatch comes back decoded: the
 cycle, the output, the value, the model's value, and the operands of the job that reproduce
@@ -119,8 +122,9 @@ class Prediction:
     stats: Stats
 
 
-def predict(cfg: units.UnitConfig, stim: list[Inputs]) -> Prediction:
-    model = ProtocolModel(units.spec(cfg), units.expect(cfg))
+def predict(cfg: units.UnitConfig, stim: list[Inputs], reset_all: bool = False) -> Prediction:
+    """``ProtocolModel`` stepped over ``stim``, for an RTL built with RESET_ALL = ``reset_all``."""
+    model = ProtocolModel(units.spec(cfg), units.expect(cfg), reset_all)
     outputs, jobs, result_jobs = [], [], []
     for inputs in stim:
         outputs.append(model.step(inputs))
@@ -196,51 +200,72 @@ def _pack_fast(layout: Layout, values: dict[str, int | None]) -> tuple[int, int]
 
 
 def record_bytes(spec: UnitSpec) -> tuple[int, int]:
-    """(stimulus bytes, {mask, expect} bytes) of one record of the binary vector file."""
+    """(stimulus bytes, bytes of one instance's {mask, expect}) of a record of the binary
+    vector file; a record is the stimulus, then the RESET_ALL = 0 pair, then the RESET_ALL = 1
+    pair (``record_size``)."""
     return -(-width(stim_fields(spec)) // 8), -(-2 * width(out_fields(spec)) // 8)
 
 
+def record_size(spec: UnitSpec) -> int:
+    """Bytes of one record: the stimulus word and both instances' {mask, expect}."""
+    sb, ob = record_bytes(spec)
+    return sb + 2 * ob
+
+
 def write_vectors(
-    spec: UnitSpec, stim: list[Inputs], expected: list[dict[str, int | None]], path: Path
+    spec: UnitSpec,
+    stim: list[Inputs],
+    expected: list[dict[str, int | None]],
+    path: Path,
+    expected_reset_all: list[dict[str, int | None]],
 ) -> Path:
     """The binary vector file (sim/vectors/vector_loop.vh) at ``path``: per cycle the stimulus
-    word, then ``{mask, expect}``, each big-endian in whole bytes; returns ``path``."""
+    word, then ``{mask, expect}`` of ``expected`` (the RESET_ALL = 0 instance's prediction),
+    then of ``expected_reset_all`` (the RESET_ALL = 1 instance's), each big-endian in whole
+    bytes; returns ``path``."""
     path.parent.mkdir(parents=True, exist_ok=True)
     sf, of = stim_fields(spec), out_fields(spec)
     sb, ob = record_bytes(spec)
     ow = width(of)
     stim_layout, out_layout = _layout(sf), _layout(of)
-    # Many cycles repeat an earlier one (held inputs, a busy unit): each distinct pair of
-    # stimulus and outputs is packed once.
-    packed: dict[tuple, bytes] = {}
+    # Many cycles repeat an earlier one (held inputs, a busy unit): each distinct stimulus and
+    # each distinct prediction is packed once.
+    stims: dict[tuple, bytes] = {}
+    pairs: dict[tuple, bytes] = {}
     records = bytearray()
-    for inputs, outputs in zip(stim, expected, strict=True):
-        key = (*inputs.items(), None, *outputs.items())
-        record = packed.get(key)
+    for inputs, *outputs in zip(stim, expected, expected_reset_all, strict=True):
+        key = tuple(inputs.items())
+        record = stims.get(key)
         if record is None:
-            stim_word = _pack_fast(stim_layout, inputs)[0]
-            word, mask = _pack_fast(out_layout, outputs)
-            record = ((stim_word << (8 * ob)) | (mask << ow) | word).to_bytes(sb + ob, "big")
-            packed[key] = record
+            record = stims[key] = _pack_fast(stim_layout, inputs)[0].to_bytes(sb, "big")
         records += record
+        for out in outputs:
+            key = tuple(out.items())
+            pair = pairs.get(key)
+            if pair is None:
+                word, mask = _pack_fast(out_layout, out)
+                pair = pairs[key] = ((mask << ow) | word).to_bytes(ob, "big")
+            records += pair
     path.write_bytes(bytes(records))
     return path
 
 
-def read_vectors(spec: UnitSpec, path: Path) -> list[tuple[int, int, int]]:
-    """(stimulus, expect, mask) words of every record of a vector file (tests, reports)."""
+def read_vectors(spec: UnitSpec, path: Path) -> list[tuple[int, int, int, int, int]]:
+    """(stimulus, expect, mask, expect with RESET_ALL = 1, its mask) words of every record of a
+    vector file (tests, reports)."""
     sb, ob = record_bytes(spec)
     ow = width(out_fields(spec))
+    size = sb + 2 * ob
     data = path.read_bytes()
-    if len(data) % (sb + ob):
-        raise ValueError(
-            f"{path}: {len(data)} bytes is not a whole number of {sb + ob}-byte records"
-        )
+    if len(data) % size:
+        raise ValueError(f"{path}: {len(data)} bytes is not a whole number of {size}-byte records")
     out = []
-    for at in range(0, len(data), sb + ob):
+    for at in range(0, len(data), size):
         stim = int.from_bytes(data[at : at + sb], "big")
-        rest = int.from_bytes(data[at + sb : at + sb + ob], "big")
-        out.append((stim, rest & ((1 << ow) - 1), rest >> ow))
+        pair0 = int.from_bytes(data[at + sb : at + sb + ob], "big")
+        pair1 = int.from_bytes(data[at + sb + ob : at + size], "big")
+        low = (1 << ow) - 1
+        out.append((stim, pair0 & low, pair0 >> ow, pair1 & low, pair1 >> ow))
     return out
 
 
@@ -309,8 +334,9 @@ def run_soak(
     stim = stimulus(cfg, cycles, seed)
     t1 = time.process_time()
     pred = predict(cfg, stim)
+    full = predict(cfg, stim, reset_all=True)
     t2 = time.process_time()
-    vectors = write_vectors(spec, stim, pred.outputs, build_dir / "vectors.bin")
+    vectors = write_vectors(spec, stim, pred.outputs, build_dir / "vectors.bin", full.outputs)
     seconds.update(stimulus=t1 - t0, predict=t2 - t1, write=time.process_time() - t2)
     top = f"tb_{spec.toplevel}"
     root = build_root or build_dir

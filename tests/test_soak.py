@@ -130,6 +130,39 @@ def test_soak_finds_the_div_zero_leak(request) -> None:
     assert any("write in the start cycle" in m for m in result.mismatches), result.mismatches
 
 
+def test_soak_holds_reset_all_1_to_its_own_reset_values() -> None:
+    """A divider whose RESET_ALL = 1 reset sets q to all ones fails the soak in the RESET_ALL = 1
+    instance only, naming q = -1 (expected 0) in the first reset cycle: each instance is
+    compared with its own prediction, and RESET_ALL = 0 leaves q undefined there."""
+    cfg = divider.DEFAULT
+    seed = soak_seed()
+    result = soak.run_soak(
+        cfg,
+        5000,
+        seed,
+        SIM_BUILD / "soak_divider_reset_all_mutant",
+        unit_parameters(cfg),
+        rtl=mutants.build("divider_shift_reset_all_q", SIM_BUILD / "mutants"),
+        build_root=SIM_BUILD / "vector_builds",
+    )
+    assert result.mismatch_count > 0, f"the mutant passed the soak (SOAK_SEED={seed})"
+    assert all(m.startswith("RESET_ALL = 1, ") for m in result.mismatches), result.mismatches
+    assert result.mismatches[0].startswith("RESET_ALL = 1, cycle 0: q = -1, expected 0 "), (
+        result.mismatches[0]
+    )
+    assert all(": q = -1, expected 0 " in m for m in result.mismatches), result.mismatches
+    alone = soak.run_soak(
+        cfg,
+        5000,
+        seed,
+        SIM_BUILD / "soak_divider_reset_all_mutant_0",
+        {**unit_parameters(cfg), "RESET_MODES": 1},
+        rtl=mutants.build("divider_shift_reset_all_q", SIM_BUILD / "mutants"),
+        build_root=SIM_BUILD / "vector_builds",
+    )
+    assert alone.mismatch_count == 0, alone.mismatches  # the RESET_ALL = 0 instance alone
+
+
 def test_vector_words_round_trip() -> None:
     """The packing the Verilog benches decode: field order and widths, signed fields."""
     for cfg in (divider.DEFAULT, gouraud.DEFAULT, specular.DEFAULT):

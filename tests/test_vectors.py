@@ -72,7 +72,7 @@ def test_sets_are_small_and_cover_the_protocol() -> None:
         total += sum((folder / f).stat().st_size for f in vector_sets.FILES)
         manifest = json.loads((folder / "manifest.json").read_text())
         assert manifest["cycles"] == cycles and manifest["seed"] >= vector_sets.SEED
-        size = sum(soak.record_bytes(units.spec(vector_sets.SETS[name][0])))
+        size = soak.record_size(units.spec(vector_sets.SETS[name][0]))
         assert (folder / "vectors.bin").stat().st_size == cycles * size, name
         c = manifest["coverage"]
         assert c["results_compared"] > 0 and c["jobs_aborted"] > 0 and c["back_to_back"] > 0, c
@@ -91,20 +91,24 @@ def test_replay_verilator(name: str, tmp_path: Path) -> None:
 
 
 def corrupt(src: Path, dst: Path, cfg=None) -> int:
-    """A copy of set ``src`` in ``dst`` with one compared bit of one expected word flipped (bit 0
-    of the first cycle from the middle on whose mask compares it); returns that cycle."""
+    """A copy of set ``src`` in ``dst`` with one compared bit flipped in both instances' expected
+    words (bit 0 of the first cycle from the middle on whose masks compare it); returns that
+    cycle."""
     dst.mkdir()
     for f in vector_sets.FILES:
         if (src / f).exists():  # a generated set (write_stimulus) has no manifest
             (dst / f).write_bytes((src / f).read_bytes())
     spec = units.spec(cfg or vector_sets.SETS[src.name][0])
     records = soak.read_vectors(spec, dst / "vectors.bin")
-    cycle = next(i for i in range(len(records) // 2, len(records)) if records[i][2] & 1)
+    half = len(records) // 2
+    cycle = next(i for i in range(half, len(records)) if records[i][2] & records[i][4] & 1)
     data = bytearray((dst / "vectors.bin").read_bytes())
-    size = sum(soak.record_bytes(spec))
-    data[(cycle + 1) * size - 1] ^= 1  # expect's bit 0 is the record's last bit
+    size, pair = soak.record_size(spec), soak.record_bytes(spec)[1]
+    data[(cycle + 1) * size - 1] ^= 1  # RESET_ALL = 1's expect bit 0: the record's last bit
+    data[(cycle + 1) * size - 1 - pair] ^= 1  # RESET_ALL = 0's: the last of the pair before
     (dst / "vectors.bin").write_bytes(bytes(data))
-    assert soak.read_vectors(spec, dst / "vectors.bin")[cycle][1] == records[cycle][1] ^ 1
+    got = soak.read_vectors(spec, dst / "vectors.bin")[cycle]
+    assert got[1] == records[cycle][1] ^ 1 and got[3] == records[cycle][3] ^ 1
     return cycle
 
 

@@ -47,8 +47,8 @@ SLOW: dict[str, str] = {
         "synthesis of every unit configuration of a sweep; quick: the sweep's other columns"
     ),
     # -- cocotb: the default configuration of each unit stays in the quick tier (and the
-    #    vector soaks run both RESET_ALL instances in every cycle); the other configurations
-    #    and the exhaustive divider walks run here
+    #    vector soaks run both RESET_ALL instances in every cycle, each against its own
+    #    prediction); the other configurations and the exhaustive divider walks run here
     "tests/test_sim_divider.py::test_divider_rtl_matches_model[article-0]": (
         "16384 divisions, every (a, k) (13 s); quick: the default configuration and the soaks"
     ),

@@ -2,8 +2,8 @@
 // Vector bench of rtl/gouraud_segment.v: replays a binary vector file (stimulus, expected outputs
 // and mask of every cycle, written from the model by sim/soak.py and sim/vector_sets.py)
 // and checks every output every cycle, in one instance with RESET_ALL = 0 and one with
-// RESET_ALL = 1 (vector_loop.vh).  Plain Verilog-2005; with GATE_LEVEL defined the
-// instance takes no parameters (a synthesised netlist of gouraud_segment).
+// RESET_ALL = 1, each against its own expected outputs (vector_loop.vh).  Plain
+// Verilog-2005; with GATE_LEVEL defined the instance takes no parameters (a synthesised netlist of gouraud_segment).
 // Replay a committed set: sim/vectors/replay.sh <set> [icarus|verilator].
 
 `resetall

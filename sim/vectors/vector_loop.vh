@@ -9,13 +9,16 @@
 //
 // The vector file is binary, one record per cycle, read with $fread as the run goes, CHUNK
 // records at a time (any length, a fixed memory): the stimulus word in STIM_BYTES =
-// ceil(STIM_W / 8) bytes, then the mask and expected words {mask, expect} in OUT_BYTES =
-// ceil(2 * OUT_W / 8) bytes, each big-endian and right-aligned (the $fread order); the bits
-// that pad a word to whole bytes are 0.  Mask bit 1: compare that output bit; 0: the output is
-// undefined there.  Each cycle i puts the stimulus of record i on the inputs, gives a rising
-// clock edge 5 ns later and compares 5 ns after it, just before the clock falls, in every
-// instance, every output bit whose mask bit is 1 with the expected word: every output, in
-// every cycle it is defined.  X or Z where a value is due is a mismatch.
+// ceil(STIM_W / 8) bytes, then the mask and expected words {mask, expect} of the instance with
+// RESET_ALL = 0 in OUT_BYTES = ceil(2 * OUT_W / 8) bytes, then those of the instance with
+// RESET_ALL = 1 in as many (each instance has its own prediction: after a reset RESET_ALL = 1
+// defines the data outputs as 0 where RESET_ALL = 0 leaves them undefined), each big-endian
+// and right-aligned (the $fread order); the bits that pad a word to whole bytes are 0.  Mask
+// bit 1: compare that output bit; 0: the output is undefined there.  Each cycle i puts the
+// stimulus of record i on the inputs, gives a rising clock edge 5 ns later and compares 5 ns
+// after it, just before the clock falls, in every instance, every output bit whose mask bit
+// is 1 with that instance's expected word: every output, in every cycle it is defined.  X or
+// Z where a value is due is a mismatch.
 //
 // Plusargs override the parameters at run time, so one build replays any set of its
 // configuration: +VECTOR_FILE=<path>, +CYCLES=<n>; +OUT_FILE=<path> also writes the output
@@ -32,14 +35,17 @@
 // sim/vectors/replay.sh.
 
 localparam STIM_BYTES = (STIM_W + 7) / 8;
+// one instance's {mask, expect}
 localparam OUT_BYTES = (2 * OUT_W + 7) / 8;
 localparam DUMP_INST = (RESET_MODES == 2) ? 1 : 0;
-localparam REC_BYTES = STIM_BYTES + OUT_BYTES;
+localparam REC_BYTES = STIM_BYTES + 2 * OUT_BYTES;
 // records read per $fread call (a call per record costs Icarus about a tenth more run time)
 localparam CHUNK = 1024;
 
 reg                      clk = 1'b0;
 reg [8*STIM_BYTES-1:0]   stim_rec;
+reg [8*OUT_BYTES-1:0]    expect_rec0;
+reg [8*OUT_BYTES-1:0]    expect_rec1;
 reg [8*OUT_BYTES-1:0]    expect_rec;
 reg [8*REC_BYTES-1:0]    vec_rec;
 reg [8*REC_BYTES-1:0]    chunk [0:CHUNK-1];
@@ -102,19 +108,21 @@ initial begin
             end
         end
         vec_rec = chunk[cycle % CHUNK];
-        {stim_rec, expect_rec} = vec_rec;
+        {stim_rec, expect_rec0, expect_rec1} = vec_rec;
         // the bits that pad a word to whole bytes are 0 in a well-formed file
-        if ((stim_rec >> STIM_W) != 0 || (expect_rec >> (2 * OUT_W)) != 0) begin
+        if ((stim_rec >> STIM_W) != 0 || (expect_rec0 >> (2 * OUT_W)) != 0 ||
+            (expect_rec1 >> (2 * OUT_W)) != 0) begin
             $display("FAIL %m: record %0d of %0s has padding bits set", cycle, vector_file);
             vector_fail;
         end
         stim_word = stim_rec[STIM_W-1:0];
-        {mask_word, expect_word} = expect_rec[2*OUT_W-1:0];
         #5 clk = 1'b1;
         #5;
         for (inst = 0; inst < 2; inst = inst + 1) begin
             if (((RESET_MODES >> inst) & 1) == 1) begin
                 got_word = got_words[inst*OUT_W +: OUT_W];
+                expect_rec = (inst == 1) ? expect_rec1 : expect_rec0;
+                {mask_word, expect_word} = expect_rec[2*OUT_W-1:0];
                 if (((got_word ^ expect_word) & mask_word) !== {OUT_W{1'b0}}) begin
                     mismatches = mismatches + 1;
                     if (mismatches <= 20) begin

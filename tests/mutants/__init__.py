@@ -15,6 +15,10 @@ is no longer in the RTL exactly once, ``build`` fails instead of testing a stale
 * ``divider_shift_div_zero_glitch``: div_zero flips for one cycle in the middle of a division
   (the second busy cycle) and back, a cycle in which the model predicts no change: the
   event-driven monitor of the cocotb bench must still catch it, naming div_zero.
+* ``divider_shift_reset_all_q``: with RESET_ALL = 1 a reset sets q to all ones instead of 0
+  (a data-path register's reset value; the RESET_ALL = 0 instance has no such reset).  The
+  vector soak (tests/test_soak.py) must fail on the RESET_ALL = 1 instance only, naming q in
+  the reset cycle: it holds that instance to its own prediction (data outputs 0 after reset).
 """
 
 from __future__ import annotations
@@ -52,6 +56,11 @@ MUTANTS = {
         "reg glitch_1, glitch_2; always @(posedge clk) begin glitch_1 <= rst_n && start && "
         "!busy_reg; glitch_2 <= rst_n && glitch_1 && busy_reg; end assign div_zero = "
         "div_zero_reg ^ glitch_2;  // MUTANT: div_zero flips for one cycle mid-division\n",
+    ),
+    "divider_shift_reset_all_q": Mutant(
+        "divider_shift",
+        "        q_reg <= {Q_WIDTH{1'b0}};\n",
+        "        q_reg <= {Q_WIDTH{1'b1}};  // MUTANT: RESET_ALL = 1 resets q to all ones\n",
     ),
 }
 
