@@ -136,6 +136,11 @@ SLOW: dict[str, str] = {
     "tests/test_rtl_params.py::test_rtl_refuses_exactly_what_the_model_refuses[gouraud_segment]": (
         "every refused Gouraud parameter under three tools; quick: the divider's"
     ),
+    # -- coverage (make coverage): an exhaustive bound its waivers cite
+    "tests/test_coverage.py::test_the_core_s_gouraud_accumulator_bound_holds_for_every_span": (
+        "every length and every difference of the default divider (4 billion cases, 27 s); "
+        "quick: test_waivers_file_is_well_formed"
+    ),
 }
 
 
