@@ -43,6 +43,10 @@ MAX_VECTOR_CYCLES = 10_000_000
 VECTOR_SIMS = ("icarus", "verilator")
 # The issue 15 target: the specular unit's vector bench under Verilator, results per second.
 VECTOR_TARGET = ("specular_unit", "verilator", 1_000_000)
+# The soak path's stimulus, prediction and vector file together, cycles per CPU second per unit,
+# measured on one run of SOAK_CYCLES cycles (one segment of a long soak, sim/soak.py SEGMENT).
+SOAK_TARGET = 2_000_000
+SOAK_CYCLES = 1_000_000
 
 
 def size_type(text: str) -> int:
@@ -350,22 +354,31 @@ def _load() -> str:
 
 
 def _soak_rates(cycles: int, prep: dict[str, dict[str, float]], rows: list) -> None:
-    """The soak path's steps (sim/soak.py run_soak, make test) in cycles per second."""
+    """The soak path's steps (sim/soak.py run_soak, make test) in cycles per second, and the
+    stimulus, prediction and file together against ``SOAK_TARGET``."""
     print(
-        "soak path (sim/soak.py run_soak: stimulus, protocol-model prediction and file in "
-        "Python, CPU seconds; then the replay), cycles per second of each step:"
+        "soak path (sim/soak.py run_soak: stimulus, protocol-model prediction and file by the "
+        "numba kernels of sim/soak_stimulus.py, soak_predict.py and soak_file.py, CPU seconds of "
+        f"one {SOAK_CYCLES:,}-cycle run after a short one; then the replay of the {cycles:,}-cycle "
+        "set), cycles per second of each step; all three: stimulus + prediction + file:"
     )
-    head = ["unit", "stimulus", "predict", "write", "python"]
+    head = ["unit", "stimulus", "predict", "write", "all three"]
     sims = sorted({sim for _, sim, *_ in rows})
     head += [f"{sim} {kind}" for sim in sims for kind in ("wall", "cpu")]
     print(f"{head[0]:<16} " + " ".join(f"{h:>14}" for h in head[1:]))
     for unit, steps in prep.items():
-        cells = [cycles / max(steps[k], 1e-9) for k in ("stimulus", "predict", "write")]
-        cells.append(cycles / max(sum(steps.values()), 1e-9))
+        cells = [SOAK_CYCLES / max(steps[k], 1e-9) for k in ("stimulus", "predict", "write")]
+        cells.append(SOAK_CYCLES / max(sum(steps.values()), 1e-9))
         for sim in sims:
             run = next(r for u, s, _, _, r in rows if u == unit and s == sim)
             cells += [cycles / max(run.run_s, 1e-9), cycles / max(run.run_cpu_s, 1e-9)]
         print(f"{unit:<16} " + " ".join(f"{c:>14,.0f}" for c in cells))
+    rates = {unit: SOAK_CYCLES / max(sum(steps.values()), 1e-9) for unit, steps in prep.items()}
+    verdict = ", ".join(
+        f"{unit} {rate:,.0f} ({'met' if rate >= SOAK_TARGET else 'NOT met'})"
+        for unit, rate in rates.items()
+    )
+    print(f"target: stimulus + prediction + file >= {SOAK_TARGET:,} cycles/s per unit: {verdict}")
 
 
 def vector_bench(cycles: int, sims: tuple[str, ...] = VECTOR_SIMS) -> int:
@@ -373,7 +386,7 @@ def vector_bench(cycles: int, sims: tuple[str, ...] = VECTOR_SIMS) -> int:
     committed sets' generator (seed ``vector_sets.SEED``) replayed by its plain Verilog bench
     under each simulator, build and run timed apart; the table, and 1 if any replay failed."""
     from model.units import divider, gouraud, specular
-    from sim import vector_sets
+    from sim import soak, vector_sets
 
     configs = {"divider_shift": divider.DEFAULT, "gouraud_segment": gouraud.DEFAULT}
     configs["specular_unit"] = specular.DEFAULT
@@ -394,7 +407,12 @@ def vector_bench(cycles: int, sims: tuple[str, ...] = VECTOR_SIMS) -> int:
             folder.mkdir()
             steps: dict[str, float] = {}
             stats = vector_sets.write_stimulus(cfg, cycles, vector_sets.SEED, folder, steps)
-            prep[unit] = steps
+            # the soak path's rate: one run of SOAK_CYCLES, after a short one (kernels loaded)
+            soak.write_segment(cfg, 1000, vector_sets.SEED, 0, folder / "soak.bin")
+            prep[unit] = soak.write_segment(
+                cfg, SOAK_CYCLES, vector_sets.SEED, 0, folder / "soak.bin"
+            )[2]
+            (folder / "soak.bin").unlink()
             print(f"  {unit}: stimulus, model prediction and file in {time.monotonic() - t0:.1f} s")
             for sim in found:
                 # Verilator's runs take a fraction of a second: the fastest of three counts

@@ -1,11 +1,15 @@
 # SPDX-License-Identifier: Apache-2.0
 """Constrained-random soak: random strobes, start timing and resets, every output every cycle.
 
-``stimulus(cfg, cycles, seed)`` draws what a careless host could do to a unit, cycle by cycle:
-each write strobe and ``start`` at random, operand values from the extremes, values next to 0
-(so a register crosses 0 from one job to the next, e.g. the divider's k), powers of two and
-uniform ones, writes in the start cycle and in every busy cycle, and a short random reset now
-and then.  The protocol model (sim/protocol.py) predicts every output in every cycle.
+``stimulus(cfg, cycles, seed)`` draws what a careless host could do to a unit, cycle by cycle
+(sim/soak_stimulus.py): each write strobe and ``start`` at random, operand values from the
+extremes, values next to 0 (so a register crosses 0 from one job to the next, e.g. the
+divider's k), powers of two and uniform ones, writes in the start cycle and in every busy cycle,
+and a short random reset now and then.  The protocol model (sim/protocol.py) predicts every
+output in every cycle: ``predict`` steps ``ProtocolModel``, the readable reference; the soak
+itself takes the same prediction, and the vector file, from numba kernels over the stimulus
+arrays (sim/soak_predict.py, sim/soak_file.py: millions of cycles a second, equal to
+``predict`` and ``write_vectors`` cycle by cycle and byte by byte, tests/test_soak_fast.py).
 
 ``run_soak(cfg, cycles, seed)`` writes the stimulus and the predictions as a binary vector file
 (one record per cycle: stimulus, then expected outputs and their mask for RESET_ALL = 0, then
@@ -14,104 +18,40 @@ replays it through the unit in a plain Verilog bench (sim/vectors/tb_<unit>.v, n
 loop; one instance with RESET_ALL = 0 and one with RESET_ALL = 1), which compares every output
 of each instance with that instance's prediction in every cycle: the RESET_ALL = 1 instance
 is held to its own reset rule (its data outputs read 0 from a reset to the next result, where
-RESET_ALL = 0 leaves them undefined).  The same
-file, for a fixed seed, is each committed vector set under sim/vectors/<set>/ (its
-``vectors.bin``; sim/vector_sets.py, ``make vectors``).  Each mismatch comes back decoded: the
-cycle, the output, the value, the model's value, and the operands of the job that reproduce
-it, with the seed that replays the whole run (``SOAK_SEED``).  The cocotb benches drive the
-same stimulus through their monitor.
+RESET_ALL = 0 leaves them undefined).  A soak longer than ``SEGMENT`` cycles runs as segments
+of its own stimulus (each from a reset, segment i drawn from the seed and i), one vector file
+and one replay at a time, so its length is bounded by time only.  The same file, for a fixed
+seed, is each committed vector set under sim/vectors/<set>/ (its ``vectors.bin``;
+sim/vector_sets.py, ``make vectors``).  Each mismatch comes back decoded: the cycle, the output,
+the value, the model's value, and the operands of the job that reproduce it, with the seed
+that replays the whole run (``SOAK_SEED``).  The cocotb benches drive the same stimulus through
+their monitor.
 """
 
 from __future__ import annotations
 
-import random
 import re
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from importlib.resources import files
 from pathlib import Path
 
-from model.units.specular import N_MAX, SpecularConfig
-from sim import units, vector_run
+from sim import soak_file, soak_predict, soak_stimulus, units, vector_run
 from sim.protocol import Job, Port, ProtocolModel, Stats, UnitSpec, from_field, to_field
 
 SIM_DIR = Path(__file__).resolve().parent
 VECTOR_DIR = SIM_DIR / "vectors"
 RTL_DIR = Path(str(files("model.rtl")))
-
-# Per cycle: chance of a reset (held 1..3 cycles), of start, of each write strobe.
-P_RESET = 0.0015
-P_START = 0.35
-P_WRITE = 0.3
-# Longest line the soak draws often (a long line now and then is drawn up to the maximum).
-SHORT_LINE = 24
-P_LONG_LINE = 0.02
+# Cycles per vector file of a long soak: a segment's file and arrays stay a few tens of MB.
+SEGMENT = 1_000_000
 
 Inputs = dict[str, int]
 
 
-def extremes(port: Port) -> list[int]:
-    """The operand values a soak favours: both ends, 0 and its neighbours, the ends' neighbours."""
-    if port.signed:
-        lo, hi = -(1 << (port.width - 1)), (1 << (port.width - 1)) - 1
-    else:
-        lo, hi = 0, (1 << port.width) - 1
-    return sorted({v for v in (lo, lo + 1, -1, 0, 1, 2, hi - 1, hi) if lo <= v <= hi})
-
-
-def _uniform(rng: random.Random, port: Port) -> int:
-    if port.signed:
-        return rng.randint(-(1 << (port.width - 1)), (1 << (port.width - 1)) - 1)
-    return rng.randint(0, (1 << port.width) - 1)
-
-
-def pick_value(rng: random.Random, port: Port, cfg: units.UnitConfig) -> int:
-    """One operand value: extremes, near 0, a power of two (signed: either sign), or uniform."""
-    if port.name == "len":
-        hi = (1 << port.width) - 1
-        if rng.random() < P_LONG_LINE:
-            return rng.choice([hi, rng.randint(0, hi)])
-        return rng.randint(0, SHORT_LINE)
-    if port.name == "n" and isinstance(cfg, SpecularConfig):
-        edges = {0, 1, N_MAX, N_MAX + 1, (1 << port.width) - 1}
-        for hi in cfg.n_hi:
-            edges.update((hi, hi + 1))
-        if cfg.n_first > 1 or cfg.n_last < N_MAX:  # a kept range: its edges, and n inside it
-            edges.update((cfg.n_first - 1, cfg.n_first, cfg.n_last, cfg.n_last + 1))
-            if rng.random() < 0.3:
-                return rng.randint(cfg.n_first, cfg.n_last)
-        return rng.choice(sorted(edges)) if rng.random() < 0.5 else rng.randint(0, N_MAX + 23)
-    r = rng.random()
-    if r < 0.35:
-        return rng.choice(extremes(port))
-    if r < 0.55:
-        return rng.randint(-2, 2) if port.signed else rng.randint(0, 2)
-    if r < 0.7:
-        value = 1 << rng.randrange(port.width - 1 if port.signed else port.width)
-        return -value if port.signed and rng.random() < 0.5 else value
-    return _uniform(rng, port)
-
-
 def stimulus(cfg: units.UnitConfig, cycles: int, seed: int) -> list[Inputs]:
-    """``cycles`` edges of random inputs; the first three hold reset (the unit starts known)."""
-    spec = units.spec(cfg)
-    rng = random.Random(f"soak-{spec.toplevel}-{seed}")
-    held = {p.name: 0 for p in spec.operands}
-    out: list[Inputs] = []
-    reset_left = 3
-    for _ in range(cycles):
-        if reset_left == 0 and rng.random() < P_RESET:
-            reset_left = rng.randint(1, 3)
-        inputs: Inputs = {"rst_n": 0 if reset_left else 1, "start": int(rng.random() < P_START)}
-        reset_left = max(0, reset_left - 1)
-        for p in spec.operands:
-            we = rng.random() < P_WRITE
-            if we:
-                held[p.name] = pick_value(rng, p, cfg)
-            inputs[f"{p.name}_we"] = int(we)
-            inputs[f"{p.name}_in"] = held[p.name]  # a port keeps its value when not written
-        out.append(inputs)
-    return out
+    """``cycles`` edges of random inputs (sim/soak_stimulus.py); the first three hold reset
+    (the unit starts known)."""
+    return soak_stimulus.stimulus(cfg, cycles, seed).as_inputs()
 
 
 @dataclass
@@ -120,6 +60,12 @@ class Prediction:
     jobs: list[Job | None]  # the latest job at each cycle, for reports
     result_jobs: list[Job | None]  # the job whose result the held outputs show
     stats: Stats
+
+    def job_at(self, cycle: int) -> Job | None:
+        return self.jobs[cycle]
+
+    def result_job_at(self, cycle: int) -> Job | None:
+        return self.result_jobs[cycle]
 
 
 def predict(cfg: units.UnitConfig, stim: list[Inputs], reset_all: bool = False) -> Prediction:
@@ -310,6 +256,22 @@ def verilog_parameters(params: dict[str, object]) -> dict[str, str]:
     }
 
 
+def write_segment(
+    cfg: units.UnitConfig, cycles: int, seed: int, segment: int, path: Path
+) -> tuple[soak_stimulus.Stimulus, soak_predict.Prediction, dict[str, float]]:
+    """Segment ``segment`` of a soak: ``cycles`` cycles of stimulus, their prediction and the
+    vector file at ``path``; with the CPU seconds of each step (stimulus, predict, write)."""
+    t0 = time.process_time()
+    stim = soak_stimulus.stimulus(cfg, cycles, seed, segment)
+    t1 = time.process_time()
+    pred = soak_predict.predict(cfg, stim)
+    t2 = time.process_time()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    soak_file.write_vector_file(cfg, stim, pred, path)
+    steps = {"stimulus": t1 - t0, "predict": t2 - t1, "write": time.process_time() - t2}
+    return stim, pred, steps
+
+
 def run_soak(
     cfg: units.UnitConfig,
     cycles: int,
@@ -319,47 +281,60 @@ def run_soak(
     rtl: Path | None = None,
     sim: str = "icarus",
     build_root: Path | None = None,
+    segment: int = SEGMENT,
 ) -> SoakResult:
     """Replay ``cycles`` random cycles through the RTL under ``sim`` (Icarus by default, or
-    ``verilator``); decode every mismatch.  ``result.seconds`` times each step.
+    ``verilator``); decode every mismatch.  ``result.seconds`` times each step (summed over the
+    segments).
 
     ``parameters`` are the unit's Verilog parameters (sim.runner.hdl_parameters); ``rtl``
     replaces ``rtl/<unit>.v`` (a saved mutant, to show the soak can fail).  The bench is built
     under ``build_root`` (default ``build_dir``; a build of the same configuration there is
-    reused, sim/vector_run.py).
+    reused, sim/vector_run.py).  More than ``segment`` cycles run as segments of at most that
+    many (each starting with a reset); the first segment with a mismatch ends the soak.
     """
     spec = units.spec(cfg)
-    seconds = {}
-    t0 = time.process_time()
-    stim = stimulus(cfg, cycles, seed)
-    t1 = time.process_time()
-    pred = predict(cfg, stim)
-    full = predict(cfg, stim, reset_all=True)
-    t2 = time.process_time()
-    vectors = write_vectors(spec, stim, pred.outputs, build_dir / "vectors.bin", full.outputs)
-    seconds.update(stimulus=t1 - t0, predict=t2 - t1, write=time.process_time() - t2)
     top = f"tb_{spec.toplevel}"
-    root = build_root or build_dir
-    built = vector_run.build(spec.toplevel, verilog_parameters(parameters), sim, root, rtl)
+    built = vector_run.build(
+        spec.toplevel, verilog_parameters(parameters), sim, build_root or build_dir, rtl
+    )
     if not built.ok:
         raise RuntimeError(f"{sim} could not build {top}:\n{built.log}")
-    ran = vector_run.run(built, vectors, cycles, timeout=1800)
-    seconds.update(build=built.seconds, replay=ran.wall_s, replay_cpu=ran.cpu_s)
-    log = ran.log
-    done = DONE.search(log)
-    # The bench ends with a non-zero exit status after its count when anything mismatched.
-    failed_clean = done is not None and int(done.group(2)) > 0
-    if (ran.returncode != 0 and not failed_clean) or done is None or int(done.group(1)) != cycles:
-        raise RuntimeError(
-            f"{top} did not finish its {cycles} cycles (exit {ran.returncode}):\n{log}"
-        )
-    result = SoakResult(spec.toplevel, seed, cycles, pred.stats, log=log, seconds=seconds)
-    result.mismatch_count = int(done.group(2))
-    of = out_fields(spec)
-    for m in MISMATCH.finditer(log):
-        cycle = int(m.group(1))
-        text = _describe(spec, of, cycle, m.groups()[2:], pred, stim)
-        result.mismatches.append(f"RESET_ALL = {m.group(2)}, {text}")
+    seconds = dict.fromkeys(("stimulus", "predict", "write", "replay", "replay_cpu"), 0.0)
+    seconds["build"] = built.seconds
+    result = SoakResult(spec.toplevel, seed, 0, Stats(), seconds=seconds)
+    vectors = build_dir / "vectors.bin"
+    for index, first in enumerate(range(0, cycles, segment)):
+        n = min(segment, cycles - first)
+        stim, pred, steps = write_segment(cfg, n, seed, index, vectors)
+        for key, value in steps.items():
+            seconds[key] += value
+        ran = vector_run.run(built, vectors, n, timeout=1800)
+        seconds["replay"] += ran.wall_s
+        seconds["replay_cpu"] += ran.cpu_s
+        done = DONE.search(ran.log)
+        # The bench ends with a non-zero exit status after its count when anything mismatched.
+        failed_clean = done is not None and int(done.group(2)) > 0
+        if (ran.returncode != 0 and not failed_clean) or done is None or int(done.group(1)) != n:
+            raise RuntimeError(
+                f"{top} did not finish its {n} cycles (exit {ran.returncode}):\n{ran.log}"
+            )
+        result.cycles += n
+        for f in fields(Stats):
+            if f.name != "errors":
+                setattr(
+                    result.stats,
+                    f.name,
+                    getattr(result.stats, f.name) + getattr(pred.stats, f.name),
+                )
+        result.log = ran.log
+        result.mismatch_count += int(done.group(2))
+        of = out_fields(spec)
+        for m in MISMATCH.finditer(ran.log):
+            text = _describe(spec, of, int(m.group(1)), m.groups()[2:], pred, stim, first)
+            result.mismatches.append(f"RESET_ALL = {m.group(2)}, {text}")
+        if result.mismatch_count:
+            break
     return result
 
 
@@ -368,9 +343,11 @@ def _describe(
     of: list[tuple[str, Port]],
     cycle: int,
     words: tuple[str, str, str],
-    pred: Prediction,
-    stim: list[Inputs],
+    pred: Prediction | soak_predict.Prediction,
+    stim: soak_stimulus.Stimulus,
+    first: int = 0,
 ) -> str:
+    """One mismatch of ``cycle`` (of a segment starting at cycle ``first``) as text."""
     got_text, want_text, mask_text = words
     want, mask = int(want_text, 16), int(mask_text, 16)
     expected = unpack(of, want)
@@ -383,18 +360,18 @@ def _describe(
         bad = [n for n in care if care[n] and got[n] != expected[n]]
     held = {p.name for p in spec.outputs if p.kind != "strobe"}
     between = not expected["valid"] and set(bad) <= held
-    job = pred.result_jobs[cycle] if between else pred.jobs[cycle]
+    job = pred.result_job_at(cycle) if between else pred.job_at(cycle)
     which = "the result held from job" if between else "job"
     diffs = "; ".join(f"{n} = {got.get(n, '?')}, expected {expected[n]}" for n in bad)
     return (
-        f"cycle {cycle}: {diffs} (valid expected {expected['valid']}); {which} "
-        f"{_job_text(job)}; inputs at this edge {stim[cycle]}"
+        f"cycle {first + cycle}: {diffs} (valid expected {expected['valid']}); {which} "
+        f"{_job_text(job, first)}; inputs at this edge {stim.inputs(cycle)}"
     )
 
 
-def _job_text(job: Job | None) -> str:
+def _job_text(job: Job | None, first: int = 0) -> str:
     if job is None:
         return "none since reset"
     ops = ", ".join(f"{k}={v}" for k, v in job.operands.items())
     write = ", with an operand write in the start cycle" if job.write_at_start else ""
-    return f"with inputs {ops} (started at cycle {job.started_at - 1}{write})"
+    return f"with inputs {ops} (started at cycle {first + job.started_at - 1}{write})"

@@ -2,9 +2,10 @@
 """Take-away vector sets: stimulus and the model's responses, committed under sim/vectors/<set>/.
 
 ``make vectors`` (``python -m sim.vector_sets``) writes, for every set in ``SETS``, the soak's
-constrained-random stimulus (sim/soak.py, a fixed seed) and the protocol model's prediction of
-every output in every cycle (sim/protocol.py) as one binary vector file, with what a simulator
-needs to replay it without Python:
+constrained-random stimulus (sim/soak_stimulus.py, a fixed seed) and the protocol model's
+prediction of every output in every cycle (sim/protocol.py, from the soak's kernels,
+sim/soak_predict.py) as one binary vector file, with what a simulator needs to replay it
+without Python:
 
 * ``vectors.bin``: one binary record per cycle (sim/soak.py, ``write_vectors``): the stimulus
   word, then ``{mask, expect}`` of the RESET_ALL = 0 prediction, then of the RESET_ALL = 1
@@ -42,7 +43,7 @@ from pathlib import Path
 
 from model.units import divider, gouraud, specular
 from model.units.gouraud import GouraudConfig
-from sim import soak, units, vector_run
+from sim import soak, soak_file, soak_predict, soak_stimulus, units, vector_run
 from sim.runner import RTL_DIR, unit_parameters
 
 VECTOR_DIR = soak.VECTOR_DIR
@@ -106,11 +107,11 @@ def covers(stats: soak.Stats) -> bool:
 
 def covering_stimulus(
     cfg: units.UnitConfig, cycles: int
-) -> tuple[int, list[soak.Inputs], soak.Prediction]:
+) -> tuple[int, soak_stimulus.Stimulus, soak_predict.Prediction]:
     """The stimulus of the first seed from SEED on whose run covers every corner (``covers``)."""
     for seed in range(SEED, SEED + 50):
-        stim = soak.stimulus(cfg, cycles, seed)
-        pred = soak.predict(cfg, stim)
+        stim = soak_stimulus.stimulus(cfg, cycles, seed)
+        pred = soak_predict.predict(cfg, stim)
         if covers(pred.stats):
             return seed, stim, pred
     raise RuntimeError(f"no seed from {SEED} on covers the protocol in {cycles} cycles")
@@ -181,13 +182,12 @@ def params_text(cfg: units.UnitConfig, cycles: int) -> str:
 def write_set(name: str, out_dir: Path) -> Path:
     """Write set ``name`` into ``out_dir/<name>/``; returns that folder."""
     cfg, cycles = SETS[name]
-    spec = units.spec(cfg)
     folder = out_dir / name
     if folder.exists():
         shutil.rmtree(folder)
     seed, stim, pred = covering_stimulus(cfg, cycles)
-    full = soak.predict(cfg, stim, reset_all=True)
-    soak.write_vectors(spec, stim, pred.outputs, folder / "vectors.bin", full.outputs)
+    folder.mkdir(parents=True)
+    soak_file.write_vector_file(cfg, stim, pred, folder / "vectors.bin")
     stats = {k: v for k, v in asdict(pred.stats).items() if k != "errors"}
     (folder / "params.txt").write_text(params_text(cfg, cycles))
     text = json.dumps(manifest(name, cfg, cycles, seed, stats), indent=2) + "\n"
@@ -205,13 +205,13 @@ def write_stimulus(
     """A set of ``cycles`` cycles of the soak's stimulus for ``seed`` (not committed) in
     ``folder``: vectors.bin and params.txt; returns what the stimulus covers.  ``seconds``, if
     given, receives the CPU seconds of each step: stimulus, predict, write."""
+    folder.mkdir(parents=True, exist_ok=True)
     t0 = time.process_time()
-    stim = soak.stimulus(cfg, cycles, seed)
+    stim = soak_stimulus.stimulus(cfg, cycles, seed)
     t1 = time.process_time()
-    pred = soak.predict(cfg, stim)
-    full = soak.predict(cfg, stim, reset_all=True)
+    pred = soak_predict.predict(cfg, stim)
     t2 = time.process_time()
-    soak.write_vectors(units.spec(cfg), stim, pred.outputs, folder / "vectors.bin", full.outputs)
+    soak_file.write_vector_file(cfg, stim, pred, folder / "vectors.bin")
     (folder / "params.txt").write_text(params_text(cfg, cycles))
     if seconds is not None:
         seconds.update(stimulus=t1 - t0, predict=t2 - t1, write=time.process_time() - t2)

@@ -31,7 +31,8 @@ pytestmark = pytest.mark.sim
 
 SHORT_SOAK = 20_000
 # The default configurations' soaks (a Gouraud or specular cycle gives about 0.6 results, a
-# divider cycle 0.1): the Python prediction, about 50k cycles/s, is what they cost.
+# divider cycle 0.1): the replay is what they cost (the stimulus, prediction and file take a
+# few million cycles a CPU second, sim/soak_predict.py).
 DEEP_CYCLES = {"divider_default": 150_000, "gouraud_default": 350_000, "specular_default": 350_000}
 
 # Every unit's default configuration deep; a few others, and the ones users ship, for 20k.
