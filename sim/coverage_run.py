@@ -240,9 +240,9 @@ def run_unit_replay(r: Replay, work: Path) -> tuple[Path, str]:
     sources = [vector_run.VECTOR_DIR / f"{top}.v", *source_list(spec.toplevel, vector_run.RTL_DIR)]
     exe = build(top, params, sources)
     if r.cycles:
-        stim = soak.stimulus(r.cfg, r.cycles, SOAK_SEED)
-        pred = soak.predict(r.cfg, stim)
-        vectors = soak.write_vectors(spec, stim, pred.outputs, work / f"{r.name}.bin")
+        # the soak's own path: stimulus, both RESET_ALL predictions, the vector file
+        vectors = work / f"{r.name}.bin"
+        soak.write_segment(r.cfg, r.cycles, SOAK_SEED, 0, vectors)
         cycles, what = r.cycles, f"soak seed {SOAK_SEED}"
     else:
         vectors = vector_sets.VECTOR_DIR / r.name / "vectors.bin"

@@ -1,21 +1,27 @@
 # SPDX-License-Identifier: Apache-2.0
 """``make coverage`` (sim/coverage.py): line and toggle coverage under Verilator, every gap
-covered or explained by a waiver (sim/coverage_waivers.toml).
+covered or explained by a waiver (sim/coverage_waivers.toml), the figures of
+docs/verification.md the script's.
 
 The quick tier runs one unit on one committed vector set (the same code path as the whole
 run: the coverage build, the replay, the merge, the annotation, the check) and shows that an
-unexplained gap and a stale waiver each fail the run by name."""
+unexplained gap and a stale waiver each fail the run by name; the slow tier runs everything
+and compares its table with the one in the docs."""
 
 from __future__ import annotations
 
 import re
 import shutil
+from pathlib import Path
 
 import pytest
 
 from sim import coverage, coverage_points
 
 pytestmark = pytest.mark.sim
+
+ROOT = Path(__file__).resolve().parents[1]
+DOCS = ROOT / "docs" / "verification.md"
 
 
 def need_verilator() -> None:
@@ -80,6 +86,37 @@ def test_an_unexplained_gap_and_a_stale_waiver_fail_the_run_by_name(tmp_path, ca
     assert (out / "divider_shift" / "annotated" / "divider_shift.v").is_file()
     assert "bits_next" in (out / "divider_shift" / "gaps.md").read_text()
     assert "| `divider_shift` |" in (out / "summary.md").read_text()
+
+
+def docs_table() -> str:
+    text = DOCS.read_text()
+    section = text[text.index("## Coverage") :]
+    rows = [line for line in section.splitlines() if line.startswith("|")]
+    head = next(i for i, line in enumerate(rows) if line.startswith("| unit | lines covered"))
+    out = [rows[head], rows[head + 1]]
+    for line in rows[head + 2 :]:
+        if not line.startswith("| `"):
+            break
+        out.append(line)
+    return "\n".join(out) + "\n"
+
+
+def test_the_docs_name_every_unit_and_every_waiver_category_in_use():
+    table = docs_table()
+    for unit in coverage.UNITS:
+        assert f"| `{unit}` |" in table
+    section = DOCS.read_text()[DOCS.read_text().index("## Coverage") :]
+    for w in coverage_points.load_waivers(coverage.WAIVERS):
+        assert w.category in section, w.category
+
+
+def test_the_docs_figures_are_the_script_s(tmp_path):
+    """The whole run: every unit and the core, every gap covered or explained, no waiver
+    stale, and the table of docs/verification.md is the one the script prints."""
+    need_verilator()
+    results, found = coverage.report(list(coverage.UNITS), tmp_path / "cov")
+    assert found == []
+    assert coverage.table(results) == docs_table()
 
 
 def test_the_core_s_gouraud_accumulator_bound_holds_for_every_span():

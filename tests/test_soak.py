@@ -4,12 +4,17 @@
 Random strobes, start timing and resets, writes in the start cycle and in busy cycles, values
 across 0 and at the extremes (sim/soak.py); every output is compared with the protocol model
 in every cycle.  The seed is printed in the run's summary; ``SOAK_SEED=<seed>`` replays a run.
-A saved mutant (the divider's div_zero defect of issue 11) must fail the soak, naming div_zero.
+Saved mutants must fail it: the div_zero defect the released divider shipped, naming div_zero,
+and a wrong RESET_ALL = 1 reset value of q, in that instance only (each RESET_ALL instance is
+held to its own prediction).
 Each unit's default configuration soaks deep (``DEEP_CYCLES``: most of the results ``make test``
-compares), the other configurations 20k cycles, under ``verilator --binary`` when it is on PATH
-(``make test`` installs it; one build per configuration, kept in sim_build/vector_builds/ for
-the next run, sim/vector_run.py), else Icarus; ``SOAK_SIM=icarus|verilator`` picks one.  Icarus
-replays every committed vector set in tests/test_vectors.py.
+compares), the other configurations 20k cycles, and ``make test-slow`` soaks each default
+configuration for ``LONG_CYCLES`` (10M); ``SOAK_CYCLES=<n>`` gives every soak n cycles instead
+(any length: a long soak runs as segments of 1M cycles, sim/soak.py).  They run under
+``verilator --binary`` when it is on PATH (``make test`` installs it; one build per
+configuration, kept in sim_build/vector_builds/ for the next run, sim/vector_run.py), else
+Icarus; ``SOAK_SIM=icarus|verilator`` picks one.  Icarus replays every committed vector set in
+tests/test_vectors.py.
 """
 
 from __future__ import annotations
@@ -30,6 +35,8 @@ from tests.conftest import record_sim
 pytestmark = pytest.mark.sim
 
 SHORT_SOAK = 20_000
+# make test-slow: each unit's default configuration for 10M cycles (tests/tiers.py).
+LONG_CYCLES = 10_000_000
 # The default configurations' soaks (a Gouraud or specular cycle gives about 0.6 results, a
 # divider cycle 0.1): the replay is what they cost (the stimulus, prediction and file take a
 # few million cycles a CPU second, sim/soak_predict.py).
@@ -62,6 +69,24 @@ def soak_sim() -> str:
     return sim
 
 
+def soak_cycles(default: int) -> int:
+    """``SOAK_CYCLES`` (every soak that many cycles) or ``default``; a bad value is refused
+    naming it."""
+    raw = os.environ.get("SOAK_CYCLES", "").strip()
+    if not raw:
+        return default
+    try:
+        cycles = int(raw.replace("_", ""), 0)
+    except ValueError:
+        cycles = 0
+    if cycles < 1:
+        raise ValueError(
+            f"SOAK_CYCLES={raw!r} is not allowed: it must be a whole number of cycles, at "
+            "least 1 (e.g. SOAK_CYCLES=50000000), or unset for each soak's own length"
+        )
+    return cycles
+
+
 def soak_seed() -> int:
     seed = env_seed("SOAK_SEED")
     return random.SystemRandom().randrange(1 << 31) if seed is None else seed
@@ -87,6 +112,19 @@ def record_soak(request, result: soak.SoakResult) -> None:
 @pytest.mark.parametrize("name", list(CONFIGS))
 def test_soak_every_output_every_cycle(request, name: str) -> None:
     cfg, cycles = CONFIGS[name]
+    soak_and_check(request, name, cfg, soak_cycles(cycles))
+
+
+@pytest.mark.parametrize("name", list(DEEP_CYCLES))
+def test_ten_million_cycle_soak(request, name: str) -> None:
+    """Each unit's default configuration for LONG_CYCLES (make test-slow), in 1M-cycle segments
+    of one seed's stimulus (sim/soak.py SEGMENT)."""
+    soak_and_check(request, f"{name}_long", CONFIGS[name][0], soak_cycles(LONG_CYCLES))
+
+
+def soak_and_check(request, name: str, cfg, cycles: int) -> None:
+    """One soak of ``cycles`` cycles: no mismatch, and (from SHORT_SOAK cycles on) every corner
+    of the protocol reached."""
     seed = soak_seed()
     result = soak.run_soak(
         cfg,
@@ -107,6 +145,9 @@ def test_soak_every_output_every_cycle(request, name: str) -> None:
     assert result.mismatch_count == 0, (
         f"{result.summary()}\nreplay with SOAK_SEED={seed}\n" + "\n".join(result.mismatches)
     )
+    assert result.cycles == cycles
+    if cycles < SHORT_SOAK:  # a short SOAK_CYCLES run need not reach every corner
+        return
     # The stimulus reached every corner of the protocol it is meant to.
     s = result.stats
     assert s.results_compared > 0 and s.jobs_aborted > 0 and s.back_to_back > 0, s
@@ -162,6 +203,19 @@ def test_soak_holds_reset_all_1_to_its_own_reset_values() -> None:
         build_root=SIM_BUILD / "vector_builds",
     )
     assert alone.mismatch_count == 0, alone.mismatches  # the RESET_ALL = 0 instance alone
+
+
+def test_soak_cycles_come_from_the_environment(monkeypatch) -> None:
+    """SOAK_CYCLES=N gives every soak N cycles; unset, each keeps its own; a bad value is
+    refused naming it."""
+    monkeypatch.delenv("SOAK_CYCLES", raising=False)
+    assert soak_cycles(1234) == 1234
+    monkeypatch.setenv("SOAK_CYCLES", "50_000_000")
+    assert soak_cycles(1234) == 50_000_000
+    for bad in ("0", "-5", "lots"):
+        monkeypatch.setenv("SOAK_CYCLES", bad)
+        with pytest.raises(ValueError, match=f"SOAK_CYCLES='{bad}' is not allowed"):
+            soak_cycles(1234)
 
 
 def test_vector_words_round_trip() -> None:
