@@ -32,7 +32,7 @@ UNITS = ("divider_shift", "gouraud_segment", "specular_unit", "shading_core")
 BUILDS = SIM_BUILD / "coverage_builds"
 COVER_FLAGS = ("--coverage-line", "--coverage-toggle")
 FLAGS = ("--x-assign", "fast", "--x-initial", "fast", "-Wno-fatal", "-Wno-lint", "-Wno-style")
-# C++ unoptimised: the benches run in seconds, the build is what costs.
+# C++ unoptimised, two jobs: the benches run in seconds, the build is what costs.
 MAKE_VARS = ("OPT_FAST=-O0", "OPT_SLOW=-O0", "OPT_GLOBAL=-O0")
 RUNTIME = ("verilated.o", "verilated_cov.o", "verilated_timing.o", "verilated_threads.o")
 SOAK_SEED = 1
@@ -164,7 +164,7 @@ def _compile_runtime(folder: Path, root: Path) -> None:
     (work / "tb_runtime.v").write_text("module tb_runtime;\ninitial #1 $finish;\nendmodule\n")
     cmd = ["verilator", "--cc", "--exe", "--timing", *COVER_FLAGS, "-Mdir", "obj", "tb_runtime.v"]
     subprocess.run([*cmd, "--main"], check=True, capture_output=True, cwd=work, timeout=600)
-    make = ["make", "-C", "obj", "-f", "Vtb_runtime.mk", *RUNTIME]
+    make = ["make", "-j", vector_run.BUILD_JOBS, "-C", "obj", "-f", "Vtb_runtime.mk", *RUNTIME]
     subprocess.run(make, check=True, capture_output=True, cwd=work, timeout=600)
     (work / "obj" / "ok").write_text("verilator runtime objects with coverage\n")
     if not (folder / "ok").exists():
@@ -206,7 +206,8 @@ def _build(
         for name in RUNTIME:
             shutil.copy2(objects / name, folder / "obj" / name)
             os.utime(folder / "obj" / name)
-        make = ["make", "-C", str(folder / "obj"), "-f", f"V{top}.mk", *MAKE_VARS]
+        make = ["make", "-j", vector_run.BUILD_JOBS, "-C", str(folder / "obj"), "-f", f"V{top}.mk"]
+        make += list(MAKE_VARS)
         made = subprocess.run(make, capture_output=True, text=True, timeout=1800)
     if made.returncode != 0 or not exe.exists():
         raise RuntimeError(
