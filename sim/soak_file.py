@@ -12,6 +12,7 @@ against ``write_vectors``.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
 from pathlib import Path
 
 import numpy as np
@@ -33,7 +34,9 @@ def record_layout(spec: UnitSpec) -> tuple[int, int, int, int]:
 
 
 @njit(cache=True, inline="always")
-def _push32(buf, at, acc, n, value, bits):
+def _push32(
+    buf: np.ndarray, at: int, acc: int, n: int, value: int, bits: int
+) -> tuple[int, int, int]:
     """Append ``bits`` (<= 32) of ``value`` to the ``n`` pending bits of ``acc`` and OR every
     whole byte into ``buf[at]``, ``buf[at + 1]``, ...; returns the new (at, acc, n)."""
     acc = (acc << bits) | value
@@ -46,7 +49,9 @@ def _push32(buf, at, acc, n, value, bits):
 
 
 @njit(cache=True, inline="always")
-def _push(buf, at, acc, n, value, bits):
+def _push(
+    buf: np.ndarray, at: int, acc: int, n: int, value: int, bits: int
+) -> tuple[int, int, int]:
     """``_push32`` for up to 62 bits of ``value`` (>= 0)."""
     if bits > 32:
         at, acc, n = _push32(buf, at, acc, n, value >> 32, bits - 32)
@@ -55,16 +60,19 @@ def _push(buf, at, acc, n, value, bits):
 
 
 @njit(cache=True, inline="always")
-def _flush(buf, at, acc, n):
+def _flush(buf: np.ndarray, at: int, acc: int, n: int) -> None:
     if n > 0:
         buf[at] |= np.uint8((acc << (8 - n)) & 0xFF)
 
 
 @njit(cache=True)
 def _write_kernel(
-    buf, first, stim_w, out_w, stim_bytes, pair_bytes, rst_n, start, we, value, op_width,
-    busy, valid, held, seq, base, table, col_width, col_kind, mask_all, mask_reset,
-):  # fmt: skip
+    buf: np.ndarray, first: int, stim_w: int, out_w: int, stim_bytes: int, pair_bytes: int,
+    rst_n: np.ndarray, start: np.ndarray, we: np.ndarray, value: np.ndarray,
+    op_width: np.ndarray, busy: np.ndarray, valid: np.ndarray, held: np.ndarray,
+    seq: np.ndarray, base: np.ndarray, table: np.ndarray, col_width: np.ndarray,
+    col_kind: np.ndarray, mask_all: np.ndarray, mask_reset: np.ndarray,
+) -> None:  # fmt: skip
     """The records of the cycles from ``first`` on into the zeroed ``buf`` (as many as it
     holds): the stimulus word, then per RESET_ALL mode its
     ``{mask, expect}``.  The mask is ``mask_all`` (every output defined) or, in RESET_ALL = 0
@@ -123,7 +131,9 @@ def _mask_pair(out_w: int, pair_bytes: int, cols: tuple[Column, ...], data: bool
     return np.frombuffer(word.to_bytes(pair_bytes, "big"), dtype=np.uint8).copy()
 
 
-def _records(cfg: units.UnitConfig, stim: Stimulus, pred: Prediction, chunk: int):
+def _records(
+    cfg: units.UnitConfig, stim: Stimulus, pred: Prediction, chunk: int
+) -> Iterator[np.ndarray]:
     """The vector file's records, ``chunk`` cycles at a time, each chunk in one reused buffer
     (a view valid until the next one)."""
     spec = unit_spec(cfg)

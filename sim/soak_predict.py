@@ -138,7 +138,10 @@ def columns(cfg: units.UnitConfig) -> tuple[Column, ...]:
 
 
 @njit(cache=True)
-def _gouraud_kernel(i0, di, length, base, p, bias, frac, out_max, table):
+def _gouraud_kernel(
+    i0: np.ndarray, di: np.ndarray, length: np.ndarray, base: np.ndarray, p: int, bias: int,
+    frac: int, out_max: int, table: np.ndarray,
+) -> None:  # fmt: skip
     """Each job's segments: P lane pixels (closed form, ``gouraud.lane_pixel``), the lane mask
     and ``last``, row by row (lane P - 1 in column 0)."""
     for j in range(i0.size):
@@ -193,9 +196,12 @@ def results(cfg: units.UnitConfig, job_ops: np.ndarray) -> tuple[np.ndarray, np.
 # ---------------------------------------------------------------------- the protocol
 @njit(cache=True)
 def _protocol_kernel(
-    rst_n, start, we, value, reset_values, key, busy_of, first_of, count_of,
-    busy_out, valid_out, held_out, seq_out, last_out, job_ops, job_start, job_write, stats,
-):  # fmt: skip
+    rst_n: np.ndarray, start: np.ndarray, we: np.ndarray, value: np.ndarray,
+    reset_values: np.ndarray, key: int, busy_of: np.ndarray, first_of: np.ndarray,
+    count_of: np.ndarray, busy_out: np.ndarray, valid_out: np.ndarray, held_out: np.ndarray,
+    seq_out: np.ndarray, last_out: np.ndarray, job_ops: np.ndarray, job_start: np.ndarray,
+    job_write: np.ndarray, stats: np.ndarray,
+) -> int:  # fmt: skip
     """``ProtocolModel.step`` over every cycle.  Per cycle: busy and valid (-1: nothing known
     before the first reset), the job whose result ``seq_out`` the held outputs show (-1: none
     since reset, -2: nothing known) and the latest accepted job (-1: none since reset); per

@@ -197,7 +197,10 @@ def draw_plan(cfg: units.UnitConfig) -> DrawPlan:
 
 
 @njit(cache=True)
-def _pick(state, kind, lo, hi, signed, width, ext, n_ext, n_edges, kept, n_first, n_last):
+def _pick(
+    state: np.ndarray, kind: int, lo: int, hi: int, signed: int, width: int, ext: np.ndarray,
+    n_ext: int, n_edges: np.ndarray, kept: int, n_first: int, n_last: int,
+) -> int:  # fmt: skip
     """One operand value: extremes, near 0, a power of two (signed: either sign) or uniform;
     a line length mostly short, now and then up to the maximum; the specular unit's n at the
     table and range edges, inside a kept range, or anywhere in 0..N_MAX + 23."""
@@ -224,9 +227,11 @@ def _pick(state, kind, lo, hi, signed, width, ext, n_ext, n_edges, kept, n_first
 
 @njit(cache=True)
 def _stimulus_kernel(
-    state, kind, lo, hi, signed, width, ext, n_ext, n_edges, kept, n_first, n_last,
-    rst_n, start, we, value,
-):  # fmt: skip
+    state: np.ndarray, kind: np.ndarray, lo: np.ndarray, hi: np.ndarray, signed: np.ndarray,
+    width: np.ndarray, ext: np.ndarray, n_ext: np.ndarray, n_edges: np.ndarray, kept: int,
+    n_first: int, n_last: int, rst_n: np.ndarray, start: np.ndarray, we: np.ndarray,
+    value: np.ndarray,
+) -> None:  # fmt: skip
     """Fill the stimulus arrays: the first three cycles hold reset, then a reset of 1..3 cycles
     with chance P_RESET per cycle, start and each strobe at random, a port keeping its value
     when not written."""
