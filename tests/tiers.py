@@ -117,6 +117,12 @@ SLOW: dict[str, str] = {
     "tests/test_fit_record.py::test_search_finds_the_recorded_design": (
         "the teapot's whole search (9 s); quick: the record's other checks"
     ),
+    # -- the long soaks
+    "tests/test_soak.py::test_ten_million_cycle_soak": (
+        "10M cycles of each unit's default configuration (7 to 15 s each alone, 21 to 26 s two "
+        "at a time on 2 cores); quick: the same soaks at 150k (divider) and 350k cycles "
+        "(Gouraud, specular)"
+    ),
     # -- second simulator runs of checks the quick tier makes under Icarus
     "tests/test_vectors.py::test_timed_replay_of_a_generated_stimulus[verilator]": (
         "a Verilator build of every unit (45 s); quick: the Icarus run"
