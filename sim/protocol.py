@@ -6,7 +6,9 @@ the cocotb ``ProtocolMonitor`` (sim/common.py) steps it with the inputs each ris
 sampled (as its driver wrote them) and compares the DUT's outputs with its prediction for every
 cycle, waking up only at an output change or where ``next_change`` says the prediction changes;
 the vector soak (sim/soak.py)
-steps it over a random stimulus and writes the prediction as the expected-response file of a
+predicts a random stimulus by the same rules in numba kernels (sim/soak_predict.py, checked
+against this model in every cycle by tests/test_soak_fast.py; ``soak.predict`` steps this model
+itself) and writes the prediction, for RESET_ALL = 0 and 1, as the expected-response file of a
 plain Verilog bench.  Pure Python: no cocotb, no simulator.
 
 Per edge, with the inputs the edge sampled (``rst_n``, ``start``, ``<op>_in``, ``<op>_we``):
