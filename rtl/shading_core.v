@@ -375,16 +375,6 @@ always @(posedge clk) begin
     end
 end
 
-// The ROM images' configuration fields, field 0 in the highest 32 bits (shading_rom FIELDS)
-function [32*12-1:0] fields(input [31:0] f0, input [31:0] f1, input [31:0] f2,
-                            input [31:0] f3, input [31:0] f4, input [31:0] f5,
-                            input [31:0] f6, input [31:0] f7, input [31:0] f8,
-                            input [31:0] f9, input [31:0] f10, input [31:0] f11);
-    begin
-        fields = {f0, f1, f2, f3, f4, f5, f6, f7, f8, f9, f10, f11};
-    end
-endfunction
-
 // The reciprocal ROM (read with l: round(2^N / l), the divider's word) and ROM 9 (a of n;
 // port B: a of n = 1, the diffuse jobs' word, read every clock)
 wire [RECIP_BITS:0] recip_q;
@@ -408,7 +398,7 @@ shading_rom #(
     .NAME("RECIP_ROM_FILE"),
     .MAGIC("DIVR"),
     .NUM_FIELDS(2),
-    .FIELDS(fields(K_WIDTH, RECIP_BITS, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0)),
+    .FIELD_0(K_WIDTH), .FIELD_1(RECIP_BITS),
     .FIELD_NAMES({"K_WIDTH         ", "RECIP_BITS      ", {(8*16*10){1'b0}}})
 ) u_recip_rom (
     .clk(clk),
@@ -435,8 +425,9 @@ generate
             .NAME("A_ROM_FILE"),
             .MAGIC("SR09"),
             .NUM_FIELDS(12),
-            .FIELDS(fields(A_INT_BITS, A_FRAC_BITS, ALPHA_INDEX, NUM_TABLES, N_HI0, N_HI1,
-                           N_HI2, N_HI3, K0, K1, K2, K3)),
+            .FIELD_0(A_INT_BITS), .FIELD_1(A_FRAC_BITS), .FIELD_2(ALPHA_INDEX),
+            .FIELD_3(NUM_TABLES), .FIELD_4(N_HI0), .FIELD_5(N_HI1), .FIELD_6(N_HI2),
+            .FIELD_7(N_HI3), .FIELD_8(K0), .FIELD_9(K1), .FIELD_10(K2), .FIELD_11(K3),
             .FIELD_NAMES({"A_INT_BITS      ", "A_FRAC_BITS     ", "ALPHA           ",
                           "NUM_TABLES      ", "N_HI0           ", "N_HI1           ",
                           "N_HI2           ", "N_HI3           ", "K0              ",
@@ -704,8 +695,8 @@ generate
             .NAME("COS_ROM_FILE"),
             .MAGIC("SR12"),
             .NUM_FIELDS(7),
-            .FIELDS(fields(ROM_ADDR_BITS, ROM_DATA_BITS, NUM_TABLES, K0, K1, K2, K3, 0, 0, 0,
-                           0, 0)),
+            .FIELD_0(ROM_ADDR_BITS), .FIELD_1(ROM_DATA_BITS), .FIELD_2(NUM_TABLES),
+            .FIELD_3(K0), .FIELD_4(K1), .FIELD_5(K2), .FIELD_6(K3),
             .FIELD_NAMES({"ROM_ADDR_BITS   ", "ROM_DATA_BITS   ", "NUM_TABLES      ",
                           "K0              ", "K1              ", "K2              ",
                           "K3              ", {(8*16*5){1'b0}}})
@@ -734,8 +725,8 @@ generate
             .NAME("COS_ROM_FILE"),
             .MAGIC("SR12"),
             .NUM_FIELDS(7),
-            .FIELDS(fields(ROM_ADDR_BITS, ROM_DATA_BITS, NUM_TABLES, K0, K1, K2, K3, 0, 0, 0,
-                           0, 0)),
+            .FIELD_0(ROM_ADDR_BITS), .FIELD_1(ROM_DATA_BITS), .FIELD_2(NUM_TABLES),
+            .FIELD_3(K0), .FIELD_4(K1), .FIELD_5(K2), .FIELD_6(K3),
             .FIELD_NAMES({"ROM_ADDR_BITS   ", "ROM_DATA_BITS   ", "NUM_TABLES      ",
                           "K0              ", "K1              ", "K2              ",
                           "K3              ", {(8*16*5){1'b0}}})

@@ -1,18 +1,21 @@
 // SPDX-License-Identifier: Apache-2.0
 /*
  * A ROM from a model-generated $readmemh image (model.rom.format_image), with one or two
- * synchronous read ports, and the image check in simulation.  The shading core's three ROMs
- * (the divider's reciprocals, the specular unit's ROM 9 and ROM 12) are instances of it.
+ * synchronous read ports, and the image check in simulation: the one ROM module of the
+ * project.  The divider's reciprocal ROM, the specular unit's ROM 9 and ROM 12, and the
+ * shading core's copies of them are instances of it.
  *
  * Image: IMAGE_DEPTH data words of WIDTH bits (the ROM keeps the first DEPTH of them: e.g.
  * one table of several), then the check fields, each a 32-bit value in CHUNKS
  * words of WIDTH bits, low bits first: MAGIC, depth, width, the NUM_FIELDS configuration values
- * of FIELDS, the FNV-1a checksum of the data words (over 32-bit pieces, low first) and "END!".
+ * FIELD_0.., the FNV-1a checksum of the data words (over 32-bit pieces, low first) and "END!".
  * At time 0 the whole image is read word by word (read_word: not by $readmemh, whose
  * Verilator version aborts on a word past the end of its array before a check could name the
  * field); every word must be there (not in a missing file, past the end of a short one or from
  * a non-hex word on) and defined, no word may follow them, and every field must be this
- * instance's.  A bad image
+ * instance's.  CHECK_ENDS = 1 also checks the first and the last data word against FIRST_WORD
+ * and LAST_WORD (what a header field cannot say: the specular unit's ROM 9 holds a for a kept
+ * range of n, and its header gives the depth only).  A bad image
  * prints the file, the field, what it holds and what this instance needs, and ends the run
  * with a non-zero exit status: $fatal under Icarus, $stop under other simulators (Verilator
  * exits with an error; $fatal is SystemVerilog, which Verilator's 1364-2005 mode refuses).
@@ -59,10 +62,30 @@ module shading_rom #(
     parameter [31:0] MAGIC = "ROM?",
     // Configuration fields after depth and width, 0..12
     parameter NUM_FIELDS = 0,
-    // Their values, field 0 in the highest 32 bits of the 12 (unused fields 0)
-    parameter [32*12-1:0] FIELDS = {(32*12){1'b0}},
+    // Their values (32 bits each; FIELD_0 comes first in the image)
+    parameter FIELD_0 = 0,
+    parameter FIELD_1 = 0,
+    parameter FIELD_2 = 0,
+    parameter FIELD_3 = 0,
+    parameter FIELD_4 = 0,
+    parameter FIELD_5 = 0,
+    parameter FIELD_6 = 0,
+    parameter FIELD_7 = 0,
+    parameter FIELD_8 = 0,
+    parameter FIELD_9 = 0,
+    parameter FIELD_10 = 0,
+    parameter FIELD_11 = 0,
     // Their names, 16 characters each, field 0 first (in the highest bits)
-    parameter [8*16*12-1:0] FIELD_NAMES = {(8*16*12){1'b0}}
+    parameter [8*16*12-1:0] FIELD_NAMES = {(8*16*12){1'b0}},
+    // 1: the first and the last data word must be FIRST_WORD and LAST_WORD
+    parameter CHECK_ENDS = 0,
+    // What the end words are, for the messages: "<ENDS_NAME> = <FIRST_KEY>" (or LAST_KEY)
+    parameter ENDS_NAME = "word",
+    parameter FIRST_KEY = 0,
+    parameter LAST_KEY = 0,
+    // The first and the last data word (CHECK_ENDS = 1; 32 bits: WIDTH at most 32)
+    parameter FIRST_WORD = 0,
+    parameter LAST_WORD = 0
 ) (
     input  wire                 clk,
     input  wire                 rd_en_a,
@@ -98,6 +121,12 @@ generate
     end
     if (NUM_FIELDS < 0 || NUM_FIELDS > 12) begin : g_check_num_fields
         shading_rom_PARAMETER_ERROR_NUM_FIELDS_must_be_0_to_12 u_error ();
+    end
+    if (CHECK_ENDS != 0 && CHECK_ENDS != 1) begin : g_check_check_ends
+        shading_rom_PARAMETER_ERROR_CHECK_ENDS_must_be_0_or_1 u_error ();
+    end
+    if (CHECK_ENDS == 1 && WIDTH > 32) begin : g_check_ends_width
+        shading_rom_PARAMETER_ERROR_CHECK_ENDS_needs_WIDTH_at_most_32 u_error ();
     end
 endgenerate
 
@@ -140,6 +169,26 @@ task read_word(input integer fd, output reg [WIDTH-1:0] word, output integer got
 endtask
 // verilator lint_on UNUSEDSIGNAL
 
+// Configuration field i (FIELD_<i>)
+function [31:0] field_value(input integer i);
+    begin
+        case (i)
+            0: field_value = FIELD_0;
+            1: field_value = FIELD_1;
+            2: field_value = FIELD_2;
+            3: field_value = FIELD_3;
+            4: field_value = FIELD_4;
+            5: field_value = FIELD_5;
+            6: field_value = FIELD_6;
+            7: field_value = FIELD_7;
+            8: field_value = FIELD_8;
+            9: field_value = FIELD_9;
+            10: field_value = FIELD_10;
+            default: field_value = FIELD_11;
+        endcase
+    end
+endfunction
+
 function [31:0] expected(input integer f, input [31:0] sum);
     begin
         if (f == 0) begin
@@ -149,7 +198,7 @@ function [31:0] expected(input integer f, input [31:0] sum);
         end else if (f == 2) begin
             expected = WIDTH;
         end else if (f < 3 + NUM_FIELDS) begin
-            expected = FIELDS[32*(12-1-(f-3)) +: 32];
+            expected = field_value(f - 3);
         end else if (f == 3 + NUM_FIELDS) begin
             expected = sum;
         end else begin
@@ -158,7 +207,9 @@ function [31:0] expected(input integer f, input [31:0] sum);
     end
 endfunction
 
+// Field f's name, its trailing blanks dropped (FIELD_NAMES pads each name to 16 characters)
 function [8*16-1:0] field_name(input integer f);
+    integer c;
     begin
         if (f == 0) begin
             field_name = "magic";
@@ -168,6 +219,9 @@ function [8*16-1:0] field_name(input integer f);
             field_name = "width";
         end else if (f < 3 + NUM_FIELDS) begin
             field_name = FIELD_NAMES[8*16*(12-1-(f-3)) +: 8*16];
+            for (c = 0; c < 15 && field_name[7:0] == " "; c = c + 1) begin
+                field_name = field_name >> 8;
+            end
         end else if (f == 3 + NUM_FIELDS) begin
             field_name = "checksum";
         end else begin
@@ -189,6 +243,8 @@ reg [WIDTH*CHUNKS-1:0]  chk_found;  // its low 32 bits are the field
 // verilator lint_on UNUSEDSIGNAL
 reg [31:0]              chk_want;
 reg [31:0]              chk_sum;
+reg [31:0]              chk_end;
+reg [63:0]              chk_found64;
 
 initial begin
     // chk_n: the words the file holds (its first WORDS go into the image)
@@ -235,6 +291,20 @@ initial begin
             $write("this instance needs %0d (0x%0h): %0s ", chk_want, chk_want,
                    (chk_i == 3 + NUM_FIELDS) ? "a data word differs from" : "the file is not");
             $display("the image of this configuration; regenerate it with make roms");
+            chk_bad = 1'b1;
+        end
+    end
+    // The first and the last data word (CHECK_ENDS = 1)
+    for (chk_i = 0; chk_i < 2 * CHECK_ENDS; chk_i = chk_i + 1) begin
+        chk_p = (chk_i == 0) ? 0 : IMAGE_DEPTH - 1;
+        chk_end = (chk_i == 0) ? FIRST_WORD : LAST_WORD;
+        chk_found64 = 64'd0;
+        chk_found64[WIDTH-1:0] = image[chk_p];
+        if (!chk_bad && chk_found64 !== {32'd0, chk_end}) begin
+            $write("%m: %0s \"%0s\": data word %0d is %0d, this instance needs %0s = %0d ", NAME,
+                   FILE, chk_p, chk_found64, ENDS_NAME, (chk_i == 0) ? FIRST_KEY : LAST_KEY);
+            $display("(%0d): the file is not the image of this configuration; regenerate it %0s",
+                     chk_end, "with make roms");
             chk_bad = 1'b1;
         end
     end

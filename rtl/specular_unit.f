@@ -6,3 +6,4 @@
 //   Verilator: +define+SHADING_ROM_DIR=\"/abs/path/rtl/rom\"
 //   Icarus:    +define+SHADING_ROM_DIR="/abs/path/rtl/rom"
 specular_unit.v
+shading_rom.v

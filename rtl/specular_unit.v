@@ -25,7 +25,7 @@
  * (every clamped value already gives cos^k = 0), S3 multiplier 11, S4 address rounding, S5
  * overflow (>= pi/2 -> 0) and ROM-12 read, S6 the zero gate on the registered ROM word, S7
  * multiplier 13, S8 rounding + saturation -> output.  Both ROMs' outputs are registered (ROM 9
- * into a_reg when n is written, ROM 12 into rom_q_reg and again into rom_d_reg), so no path
+ * into rom9_q when n is written, ROM 12 into rom12_q and again into rom_d_reg), so no path
  * runs from a block RAM's output through logic.  After the edge that accepts start, busy is
  * high for 8 + l cycles and valid is high in cycles 8 .. 8 + l (the last one together with
  * busy = 0, when a new start is already accepted).
@@ -46,20 +46,20 @@
  * specular_unit_PARAMETER_ERROR_A_INT_BITS_too_small_for_the_largest_a).  K0..K3 and ALPHA
  * take part in these checks only (the datapath reads k and a from the ROMs), and MAG_INT_BITS
  * must be the value the model derives from them and the kept range N_FIRST..N_LAST.  In
- * simulation both ROM images are checked at time 0 (see "ROM image check"): a missing, short,
- * malformed or wrong-configuration file ends the run with a message and a non-zero exit status.
+ * simulation both ROM images are checked at time 0 by the ROM module (rtl/shading_rom.v; see
+ * "ROM 9 and ROM 12"): a missing, short, malformed or wrong-configuration file ends the run
+ * with a message and a non-zero exit status.
+ *
+ * Sources: this file and rtl/shading_rom.v (rtl/specular_unit.f lists them).
  *
  * Documentation: docs/specular.md (ports, formats, parameters, timing, accuracy, the contract
  * and its tests); docs/architecture.md (the protocol, the ROM image format, the benches).
  *
- * Why this file is long (about 940 lines; the datapath itself is the last ~250): one module
+ * Why this file is long (about 770 lines; the datapath itself is the last ~300): one module
  * per file, and Verilog-2005 has no packages to put the rest in.  The section "parameter
  * check" (about 280 lines) re-derives the model's legal set at elaboration (the largest and
  * smallest a of the kept n, with constant functions) so that every tool refuses exactly what
- * model.units.specular refuses; the section "ROM image check" (about 220 lines) checks the
- * two ROM images at time 0 in simulation (`ifndef SYNTHESIS).  The ROM-image check repeats the
- * divider's in shape (one per image); an include file shared by both would need an include path
- * in every tool flow.
+ * model.units.specular refuses.
  */
 
 `resetall
@@ -448,314 +448,9 @@ localparam A_ADDR_BITS = (A_DEPTH > 512) ? 10 : (A_DEPTH > 256) ? 9 : (A_DEPTH >
                        : (A_DEPTH > 64) ? 7 : (A_DEPTH > 32) ? 6 : (A_DEPTH > 16) ? 5
                        : (A_DEPTH > 8) ? 4 : (A_DEPTH > 4) ? 3 : (A_DEPTH > 2) ? 2 : 1;
 localparam COS_DEPTH = 2 ** (TSEL_BITS + ROM_ADDR_BITS);
-reg [A_WIDTH-1:0]       a_rom [0:A_DEPTH-1];
-reg [ROM_DATA_BITS-1:0] cos_rom [0:COS_DEPTH-1];
-
-`ifdef SYNTHESIS
-// Synthesis loads the data words only: the check words after them fall past the end of the
-// arrays (Yosys drops them without a message), so ROM 12 stays 2^(TSEL_BITS + ROM_ADDR_BITS)
-// words of block RAM.
-initial begin
-    $readmemh(A_ROM_FILE, a_rom);
-    $readmemh(COS_ROM_FILE, cos_rom);
-end
-`else
-// ---------------------------------------------------------------- ROM image check (simulation)
-// Each image (model.rom.format_image) holds its data words, then check fields, each a 32-bit
-// value in CHUNKS words of the ROM's width, low bits first: magic ("SR09" for ROM 9, "SR12" for
-// ROM 12), depth, width, the parameters the contents depend on (ROM 9: A_INT_BITS,
-// A_FRAC_BITS, ALPHA as 0 = taylor / 1 = inflection, NUM_TABLES, N_HI0..N_HI3, K0..K3; ROM 12:
-// ROM_ADDR_BITS, ROM_DATA_BITS, NUM_TABLES, K0..K3), the checksum of the data words (FNV-1a
-// over 32-bit pieces) and the end mark "END!".  At time 0 both images are read
-// (rom_read_word); every word must be there (not in a missing file, past the end of a short one
-// or from a non-hex word on) and defined (no x digit), no word may follow them, every field must
-// be this instance's, and ROM 9's first and last words those of N_FIRST and
-// N_LAST (kept_word: the header has no field for the kept range, its depth only); then the
-// data words are copied into the ROMs.  A bad image prints what was expected and what was
-// found and ends the run with a non-zero exit status: $fatal under Icarus (it accepts it with -g2005 and vvp exits with 1), $stop under
-// other simulators (Verilator exits with an error; $fatal is SystemVerilog, which Verilator's
-// 1364-2005 mode refuses).  Synthesis (SYNTHESIS defined, as Yosys does) skips the check.
-localparam A_CHUNKS = (32 + A_WIDTH - 1) / A_WIDTH;
-localparam COS_CHUNKS = (32 + ROM_DATA_BITS - 1) / ROM_DATA_BITS;
-localparam A_FIELDS = 17;
-localparam COS_FIELDS = 12;
-localparam A_WORDS = A_DEPTH + A_FIELDS * A_CHUNKS;
-localparam COS_WORDS = COS_DEPTH + COS_FIELDS * COS_CHUNKS;
-localparam IMG_WIDTH = (A_WIDTH > ROM_DATA_BITS) ? A_WIDTH : ROM_DATA_BITS;
-
-reg [A_WIDTH-1:0]       a_image [0:A_WORDS-1];
-reg [ROM_DATA_BITS-1:0] cos_image [0:COS_WORDS-1];
-
-localparam WORD_WIDTH = IMG_WIDTH;
-// The next word of a $readmemh image (model.rom.format_image: a hex word or a // comment a
-// line) from file fd: blank space and // comments skipped; got = 1 with the word, 0 at the end
-// of the file or at a word that is not hex (where reading stops: the words from there on are
-// missing).  The image is read word by word, not by $readmemh, so a file longer than this
-// image is reported like any other bad image: Verilator's $readmemh aborts on a word past the
-// end of its array, before any check could name the field.  (Verilator 5.006 counts fd unused.)
-// verilator lint_off UNUSEDSIGNAL
-task rom_read_word(input integer fd, output reg [WORD_WIDTH-1:0] word, output integer got);
-    integer c;
-    begin
-        got = -1;
-        word = {WORD_WIDTH{1'b0}};
-        while (got < 0) begin
-            c = $fgetc(fd);
-            if (c == -1) begin
-                got = 0;
-            end else if (c == "/") begin
-                while (c != -1 && c != 10) c = $fgetc(fd);
-            end else if (c != " " && c != 9 && c != 10 && c != 13) begin
-                c = $ungetc(c, fd);
-                got = ($fscanf(fd, "%h", word) == 1) ? 1 : 0;
-            end
-        end
-    end
-endtask
-// verilator lint_on UNUSEDSIGNAL
-
-
-// Word addr of image which (0 = ROM 9, 1 = ROM 12), zero-extended (addr is an integer: its
-// high bits are not needed to address the images)
-// verilator lint_off UNUSEDSIGNAL
-function [IMG_WIDTH+31:0] image_word(input integer which, input integer addr);
-    begin
-        if (which == 0) begin
-            image_word = {{(IMG_WIDTH+32-A_WIDTH){1'b0}}, a_image[addr]};
-        end else begin
-            image_word = {{(IMG_WIDTH+32-ROM_DATA_BITS){1'b0}}, cos_image[addr]};
-        end
-    end
-endfunction
-// verilator lint_on UNUSEDSIGNAL
-
-// Field f of image which as this instance expects it (the checksum is computed from the data)
-function [31:0] rom_expected(input integer which, input integer f);
-    begin
-        if (which == 0) begin
-            case (f)
-                0: rom_expected = "SR09";
-                1: rom_expected = A_DEPTH;
-                2: rom_expected = A_WIDTH;
-                3: rom_expected = A_INT_BITS;
-                4: rom_expected = A_FRAC_BITS;
-                5: rom_expected = ALPHA_INDEX;
-                6: rom_expected = NUM_TABLES;
-                7: rom_expected = N_HI0;
-                8: rom_expected = N_HI1;
-                9: rom_expected = N_HI2;
-                10: rom_expected = N_HI3;
-                11: rom_expected = K0;
-                12: rom_expected = K1;
-                13: rom_expected = K2;
-                14: rom_expected = K3;
-                default: rom_expected = "END!";
-            endcase
-        end else begin
-            case (f)
-                0: rom_expected = "SR12";
-                1: rom_expected = COS_DEPTH;
-                2: rom_expected = ROM_DATA_BITS;
-                3: rom_expected = ROM_ADDR_BITS;
-                4: rom_expected = ROM_DATA_BITS;
-                5: rom_expected = NUM_TABLES;
-                6: rom_expected = K0;
-                7: rom_expected = K1;
-                8: rom_expected = K2;
-                9: rom_expected = K3;
-                default: rom_expected = "END!";
-            endcase
-        end
-    end
-endfunction
-
-function [8*13-1:0] rom_field_name(input integer which, input integer f);
-    begin
-        if (which == 0) begin
-            case (f)
-                0: rom_field_name = "magic";
-                1: rom_field_name = "depth";
-                2: rom_field_name = "width";
-                3: rom_field_name = "A_INT_BITS";
-                4: rom_field_name = "A_FRAC_BITS";
-                5: rom_field_name = "ALPHA";
-                6: rom_field_name = "NUM_TABLES";
-                7: rom_field_name = "N_HI0";
-                8: rom_field_name = "N_HI1";
-                9: rom_field_name = "N_HI2";
-                10: rom_field_name = "N_HI3";
-                11: rom_field_name = "K0";
-                12: rom_field_name = "K1";
-                13: rom_field_name = "K2";
-                14: rom_field_name = "K3";
-                15: rom_field_name = "checksum";
-                default: rom_field_name = "end mark";
-            endcase
-        end else begin
-            case (f)
-                0: rom_field_name = "magic";
-                1: rom_field_name = "depth";
-                2: rom_field_name = "width";
-                3: rom_field_name = "ROM_ADDR_BITS";
-                4: rom_field_name = "ROM_DATA_BITS";
-                5: rom_field_name = "NUM_TABLES";
-                6: rom_field_name = "K0";
-                7: rom_field_name = "K1";
-                8: rom_field_name = "K2";
-                9: rom_field_name = "K3";
-                10: rom_field_name = "checksum";
-                default: rom_field_name = "end mark";
-            endcase
-        end
-    end
-endfunction
-
-reg                  chk_bad;
-integer              chk_which;
-integer              chk_i;
-integer              chk_p;
-integer              chk_depth;
-integer              chk_width;
-integer              chk_chunks;
-integer              chk_fields;
-integer              chk_fd;
-integer              chk_got;
-integer              chk_n_a;
-integer              chk_n_cos;
-reg [IMG_WIDTH-1:0]  chk_read;
-reg [IMG_WIDTH+31:0] chk_word;
-reg [IMG_WIDTH+31:0] chk_found;
-reg [IMG_WIDTH+31:0] chk_want;
-reg [31:0]           chk_sum;
-
-initial begin
-    // chk_n_a, chk_n_cos: the words each file holds (the first A_WORDS, COS_WORDS go into the
-    // images)
-    chk_n_a = 0;
-    chk_fd = $fopen(A_ROM_FILE, "r");
-    if (chk_fd != 0) begin
-        chk_got = 1;
-        while (chk_got == 1) begin
-            rom_read_word(chk_fd, chk_read, chk_got);
-            if (chk_got == 1) begin
-                if (chk_n_a < A_WORDS) a_image[chk_n_a] = chk_read[A_WIDTH-1:0];
-                chk_n_a = chk_n_a + 1;
-            end
-        end
-        $fclose(chk_fd);
-    end
-    chk_n_cos = 0;
-    chk_fd = $fopen(COS_ROM_FILE, "r");
-    if (chk_fd != 0) begin
-        chk_got = 1;
-        while (chk_got == 1) begin
-            rom_read_word(chk_fd, chk_read, chk_got);
-            if (chk_got == 1) begin
-                if (chk_n_cos < COS_WORDS) cos_image[chk_n_cos] = chk_read[ROM_DATA_BITS-1:0];
-                chk_n_cos = chk_n_cos + 1;
-            end
-        end
-        $fclose(chk_fd);
-    end
-    chk_bad = 1'b0;
-    for (chk_which = 0; chk_which < 2; chk_which = chk_which + 1) begin
-        chk_depth = (chk_which == 0) ? A_DEPTH : COS_DEPTH;
-        chk_width = (chk_which == 0) ? A_WIDTH : ROM_DATA_BITS;
-        chk_chunks = (chk_which == 0) ? A_CHUNKS : COS_CHUNKS;
-        chk_fields = (chk_which == 0) ? A_FIELDS : COS_FIELDS;
-        // Every word defined
-        for (chk_i = 0; chk_i < chk_depth + chk_fields * chk_chunks; chk_i = chk_i + 1) begin
-            if (!chk_bad && (chk_i >= ((chk_which == 0) ? chk_n_a : chk_n_cos)
-                             || ^image_word(chk_which, chk_i) === 1'bx)) begin
-                if (chk_which == 0) begin
-                    $write("%m: A_ROM_FILE \"%0s\"", A_ROM_FILE);
-                end else begin
-                    $write("%m: COS_ROM_FILE \"%0s\"", COS_ROM_FILE);
-                end
-                $write(": word %0d is undefined: the file is missing or unreadable, ", chk_i);
-                $write("has fewer than the %0d words of this image ",
-                       chk_depth + chk_fields * chk_chunks);
-                $write("(%0d data + %0d check words of %0d bits) ",
-                       chk_depth, chk_fields * chk_chunks, chk_width);
-                $display("or a non-hex word there; regenerate it with make roms");
-                chk_bad = 1'b1;
-            end
-        end
-        // Checksum of the data words
-        chk_sum = 32'h811c9dc5;
-        for (chk_i = 0; chk_i < chk_depth; chk_i = chk_i + 1) begin
-            chk_word = image_word(chk_which, chk_i);
-            for (chk_p = 0; chk_p < chk_width; chk_p = chk_p + 32) begin
-                chk_sum = (chk_sum ^ chk_word[chk_p +: 32]) * 32'h01000193;
-            end
-        end
-        // The check fields
-        for (chk_i = 0; chk_i < chk_fields; chk_i = chk_i + 1) begin
-            chk_found = {(IMG_WIDTH+32){1'b0}};
-            for (chk_p = chk_chunks - 1; chk_p >= 0; chk_p = chk_p - 1) begin
-                chk_found = (chk_found << chk_width)
-                            | image_word(chk_which, chk_depth + chk_i * chk_chunks + chk_p);
-            end
-            chk_want = {{IMG_WIDTH{1'b0}},
-                        (chk_i == chk_fields - 2) ? chk_sum : rom_expected(chk_which, chk_i)};
-            if (!chk_bad && chk_found !== chk_want) begin
-                if (chk_which == 0) begin
-                    $write("%m: A_ROM_FILE \"%0s\"", A_ROM_FILE);
-                end else begin
-                    $write("%m: COS_ROM_FILE \"%0s\"", COS_ROM_FILE);
-                end
-                $write(": check field %0s is %0d (0x%0h), ",
-                       rom_field_name(chk_which, chk_i), chk_found, chk_found);
-                $write("this instance needs %0d (0x%0h): %0s ", chk_want, chk_want,
-                       (chk_i == chk_fields - 2) ? "a data word differs from" : "the file is not");
-                $write("the ROM %0s image of this configuration (model.specular.rom_path); ",
-                       (chk_which == 0) ? "9" : "12");
-                $display("regenerate it with make roms");
-                chk_bad = 1'b1;
-            end
-        end
-    end
-    // ROM 9 holds the kept range: its first word is a of N_FIRST, its last a of N_LAST
-    for (chk_i = 0; chk_i < 2; chk_i = chk_i + 1) begin
-        chk_p = (chk_i == 0) ? N_FIRST : N_LAST;
-        chk_want = {{IMG_WIDTH{1'b0}}, kept_word(chk_p)};
-        chk_found = image_word(0, (chk_i == 0) ? 0 : A_DEPTH - 1);
-        if (!chk_bad && chk_found !== chk_want) begin
-            $write("%m: A_ROM_FILE \"%0s\": data word %0d is %0d, ", A_ROM_FILE,
-                   (chk_i == 0) ? 0 : A_DEPTH - 1, chk_found);
-            $write("this instance needs a of n = %0d (%0d): the file is not ", chk_p, chk_want);
-            $display("the ROM 9 image of N_FIRST = %0d, N_LAST = %0d; regenerate it with make roms",
-                     N_FIRST, N_LAST);
-            chk_bad = 1'b1;
-        end
-    end
-    if (!chk_bad && chk_n_a > A_WORDS) begin
-        $write("%m: A_ROM_FILE \"%0s\": the file has %0d words, more than the %0d ", A_ROM_FILE,
-               chk_n_a, A_WORDS);
-        $display("of this image; regenerate it with make roms");
-        chk_bad = 1'b1;
-    end
-    if (!chk_bad && chk_n_cos > COS_WORDS) begin
-        $write("%m: COS_ROM_FILE \"%0s\": the file has %0d words, more than the %0d ",
-               COS_ROM_FILE, chk_n_cos, COS_WORDS);
-        $display("of this image; regenerate it with make roms");
-        chk_bad = 1'b1;
-    end
-    if (chk_bad) begin
-`ifdef __ICARUS__
-        $fatal(1, "%m: bad ROM image (see above)");
-`else
-        $stop;
-`endif
-    end
-    for (chk_i = 0; chk_i < A_DEPTH; chk_i = chk_i + 1) begin
-        a_rom[chk_i] = a_image[chk_i];
-    end
-    for (chk_i = 0; chk_i < COS_DEPTH; chk_i = chk_i + 1) begin
-        cos_rom[chk_i] = cos_image[chk_i];
-    end
-end
-`endif
+// ROM 9's first and last word (a of N_FIRST and of N_LAST): the image check compares them
+localparam A_FIRST_WORD = kept_word(N_FIRST);
+localparam A_LAST_WORD = kept_word(N_LAST);
 
 // ---------------------------------------------------------------- decoder 10 (10 inputs)
 // One-hot outputs (the patent's lines 30..33), one per k range; none for n = 0 or n > 1000.
@@ -778,14 +473,14 @@ wire [1:0] dec_index = {dec_line[3] | dec_line[2], dec_line[3] | dec_line[1]};
 // (busy, valid, counter 5, the stage valid and last-pixel flags), the flags (n_err and the
 // run's n error) and the operand registers; the data path (the run copies, the accumulator and
 // every pipeline register) is loaded by each start and by the stage before it, so it is read
-// only once defined; RESET_ALL = 1 resets it too.  ROM 9's and ROM 12's read registers (a_reg,
-// rom_q_reg) are never reset: see "ROM 9 and ROM 12" at the end.
+// only once defined; RESET_ALL = 1 resets it too.  ROM 9's and ROM 12's read registers (rom9_q,
+// rom12_q) are never reset: see "ROM 9 and ROM 12" at the end.
 reg [C_WIDTH-1:0]   c_reg;
 reg [Z_WIDTH-1:0]   dz_reg;
 reg [Z_WIDTH-1:0]   z0_reg;
-// Register 4 holds n as what the unit uses of it: ROM 9's word (a_reg, the ROM's read
+// Register 4 holds n as what the unit uses of it: ROM 9's word (rom9_q, the ROM's read
 // register, written with n), the table and the error flag
-reg [A_WIDTH-1:0]   a_reg;
+wire [A_WIDTH-1:0]  rom9_q;
 reg [TSEL_BITS-1:0] tsel_reg;
 reg                 nerr_reg;
 // Parallel-load value of counter 5
@@ -800,7 +495,7 @@ reg                 nerr_run_reg;
 
 // ---------------------------------------------------------------- pipeline
 // S0 acc_reg, S1 low_reg + neg_reg + big_reg (|zeta| without its carry), S2 mag_reg (|zeta|
-// saturated), S3 prod_reg (multiplier 11), S4 addr_reg (rounded address bits), S5 rom_q_reg +
+// saturated), S3 prod_reg (multiplier 11), S4 addr_reg (rounded address bits), S5 rom12_q +
 // zero_reg (ROM 12 read), S6 rom_d_reg (gated word), S7 out_prod_reg (multiplier 13), S8
 // intensity_reg (rounding, saturation).  v_reg[s] marks a pixel in stage s.
 localparam LAST_STAGE = 7;
@@ -815,7 +510,7 @@ reg                  big_reg;
 reg [MAG_WIDTH-1:0]  mag_reg;
 reg [PROD_WIDTH-1:0] prod_reg;
 reg [RND_WIDTH-1:0]  addr_reg;
-reg [ROM_DATA_BITS-1:0] rom_q_reg;
+wire [ROM_DATA_BITS-1:0] rom12_q;
 reg                  zero_reg;
 reg [ROM_DATA_BITS-1:0] rom_d_reg;
 reg [OP_WIDTH-1:0]   out_prod_reg;
@@ -952,7 +647,7 @@ always @(posedge clk) begin
     if (start_ok) begin
         c_run_reg <= c_reg;
         dz_run_reg <= dz_reg;
-        a_run_reg <= a_reg;
+        a_run_reg <= rom9_q;
         tsel_run_reg <= tsel_reg;
         acc_reg <= {{LEN_WIDTH{z0_reg[Z_WIDTH-1]}}, z0_reg};
     end else if (v_reg[0] && !last0) begin
@@ -967,7 +662,7 @@ always @(posedge clk) begin
     prod_reg <= mag_reg * a_run_reg;
     addr_reg <= prod_rnd[PROD_WIDTH:SHIFT];
     zero_reg <= rom_ovf || nerr_run_reg;
-    rom_d_reg <= zero_reg ? {ROM_DATA_BITS{1'b0}} : rom_q_reg;
+    rom_d_reg <= zero_reg ? {ROM_DATA_BITS{1'b0}} : rom12_q;
     out_prod_reg <= c_run_reg * rom_d_reg;
 
     // Stage S8: the result
@@ -995,19 +690,80 @@ always @(posedge clk) begin
 end
 
 // ---------------------------------------------------------------- ROM 9 and ROM 12
-// ROM 9 (written with n while idle) and ROM 12 (stage S5, every cycle): synchronous reads into
-// registers that rst_n never resets, in either RESET_ALL mode, so that they map onto block
+// ROM 9 (read with n while idle) and ROM 12 (stage S5, every cycle): instances of the ROM
+// module (rtl/shading_rom.v), which checks each image at time 0 in simulation: magic ("SR09",
+// "SR12"), depth, width, the parameters the contents depend on (ROM 9: A_INT_BITS,
+// A_FRAC_BITS, ALPHA as 0 = taylor / 1 = inflection, NUM_TABLES, N_HI0..N_HI3, K0..K3, and
+// its first and last words, those of N_FIRST and N_LAST: the header has no field for the kept
+// range, its depth only; ROM 12: ROM_ADDR_BITS, ROM_DATA_BITS, NUM_TABLES, K0..K3), the
+// checksum of the data words and the end mark; a bad image prints the file, the field, what
+// it holds and what this instance needs, and ends the run with a non-zero exit status.
+// Their read registers are never reset, in either RESET_ALL mode, so that they map onto block
 // RAM (a block RAM's read register has no reset on every family, and where it has one Yosys
 // does not always merge it).  Neither needs one: after reset nerr_reg = 1 (n = 0), so until n
-// is written every pixel has zero_reg = 1 and its ROM-12 word is gated to 0 (an undefined a_reg
-// cannot reach a result: zero_reg = overflow || n error is 1 whatever the overflow), and
-// rom_q_reg is rewritten every cycle from the address of the pixel in stage S4.
-always @(posedge clk) begin
-    if (!busy_reg && n_we) begin
-        a_reg <= a_rom[a_addr];
-    end
-    rom_q_reg <= cos_rom[rom_addr];
-end
+// is written every pixel has zero_reg = 1 and its ROM-12 word is gated to 0 (an undefined
+// rom9_q cannot reach a result: zero_reg = overflow || n error is 1 whatever the overflow),
+// and rom12_q is rewritten every cycle from the address of the pixel in stage S4.
+// verilator lint_off UNUSEDSIGNAL
+wire [A_WIDTH-1:0]       rom9_unused_b;   // one read port each
+wire [ROM_DATA_BITS-1:0] rom12_unused_b;
+// verilator lint_on UNUSEDSIGNAL
+
+shading_rom #(
+    .WIDTH(A_WIDTH),
+    .DEPTH(A_DEPTH),
+    .ADDR_BITS(A_ADDR_BITS),
+    .PORTS(1),
+    .FILE(A_ROM_FILE),
+    .NAME("A_ROM_FILE"),
+    .MAGIC("SR09"),
+    .NUM_FIELDS(12),
+    .FIELD_0(A_INT_BITS), .FIELD_1(A_FRAC_BITS), .FIELD_2(ALPHA_INDEX),
+    .FIELD_3(NUM_TABLES), .FIELD_4(N_HI0), .FIELD_5(N_HI1), .FIELD_6(N_HI2),
+    .FIELD_7(N_HI3), .FIELD_8(K0), .FIELD_9(K1), .FIELD_10(K2), .FIELD_11(K3),
+    .FIELD_NAMES({"A_INT_BITS      ", "A_FRAC_BITS     ", "ALPHA           ",
+                  "NUM_TABLES      ", "N_HI0           ", "N_HI1           ",
+                  "N_HI2           ", "N_HI3           ", "K0              ",
+                  "K1              ", "K2              ", "K3              "}),
+    .CHECK_ENDS(1),
+    .ENDS_NAME("a of n"),
+    .FIRST_KEY(N_FIRST),
+    .LAST_KEY(N_LAST),
+    .FIRST_WORD(A_FIRST_WORD),
+    .LAST_WORD(A_LAST_WORD)
+) u_rom9 (
+    .clk(clk),
+    .rd_en_a(!busy_reg && n_we),
+    .addr_a(a_addr),
+    .q_a(rom9_q),
+    .rd_en_b(1'b0),
+    .addr_b({A_ADDR_BITS{1'b0}}),
+    .q_b(rom9_unused_b)
+);
+
+shading_rom #(
+    .WIDTH(ROM_DATA_BITS),
+    .DEPTH(COS_DEPTH),
+    .ADDR_BITS(TSEL_BITS + ROM_ADDR_BITS),
+    .PORTS(1),
+    .FILE(COS_ROM_FILE),
+    .NAME("COS_ROM_FILE"),
+    .MAGIC("SR12"),
+    .NUM_FIELDS(7),
+    .FIELD_0(ROM_ADDR_BITS), .FIELD_1(ROM_DATA_BITS), .FIELD_2(NUM_TABLES),
+    .FIELD_3(K0), .FIELD_4(K1), .FIELD_5(K2), .FIELD_6(K3),
+    .FIELD_NAMES({"ROM_ADDR_BITS   ", "ROM_DATA_BITS   ", "NUM_TABLES      ",
+                  "K0              ", "K1              ", "K2              ",
+                  "K3              ", {(8*16*5){1'b0}}})
+) u_rom12 (
+    .clk(clk),
+    .rd_en_a(1'b1),
+    .addr_a(rom_addr),
+    .q_a(rom12_q),
+    .rd_en_b(1'b0),
+    .addr_b({(TSEL_BITS + ROM_ADDR_BITS){1'b0}}),
+    .q_b(rom12_unused_b)
+);
 
 endmodule
 

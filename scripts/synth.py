@@ -4,9 +4,10 @@ figures (make synth).
 
 Every run goes through ``model.hw.synthesise`` (a unit) or ``sim.synth_tops.synthesise`` (a top
 of several files, the shading core, its parameters made above ``model.hw``): Yosys, then nextpnr
-with a fixed seed; results cached in out/synth/cache/; ``--jobs N`` runs N at a time (threads,
-each waiting on its tools).  With no selection the default set runs: every unit and the core at
-its default configuration on every part, plus the specular unit's UP5K configuration on the UP5K
+with a fixed seed (1, or the run's own in model.hw.parts.SEEDS); results cached in
+out/synth/cache/; ``--jobs N`` runs N at a time (threads, each waiting on its tools).  With no
+selection the default set runs: every unit and the core at its default configuration on every
+part, plus the specular unit's UP5K configuration on the UP5K
 and the core's hybrid configuration on the ECP5-25F; every Fmax target is in it (docs/fpga.md,
 "Synthesis").  Exit status 1 if a target is missed or a design that must fit
 does not, 2 if a tool fails.
@@ -27,6 +28,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 from model.hw import PARTS, UNITS, SynthError, SynthResult, default_runs, report, synthesise
+from model.hw.parts import SEEDS
 from sim import synth_tops
 
 NAMES = [*UNITS, *synth_tops.TOPS]
@@ -82,7 +84,11 @@ def main(argv: list[str] | None = None) -> int:
         nargs="*",
         help="named configurations, e.g. default up5k hybrid (default: default)",
     )
-    parser.add_argument("--seed", type=int, default=1, help="nextpnr seed (default 1)")
+    parser.add_argument(
+        "--seed",
+        type=int,
+        help="nextpnr seed of every run (default: 1, or the run's own in model.hw.parts.SEEDS)",
+    )
     parser.add_argument("--jobs", type=int, default=1, help="runs at a time (default 1)")
     parser.add_argument("--out", type=Path, help="write synth.md and synth.json into this folder")
     parser.add_argument("--record", type=Path, help="write the JSON record here (docs/synth.json)")
@@ -96,7 +102,8 @@ def main(argv: list[str] | None = None) -> int:
     start = time.monotonic()
     results, errors = [], []
     with ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        futures = [pool.submit(run, u, c, p, args.seed) for u, c, p in runs]
+        seeds = [SEEDS.get(r, 1) if args.seed is None else args.seed for r in runs]
+        futures = [pool.submit(run, *r, s) for r, s in zip(runs, seeds, strict=True)]
         for future in futures:
             try:
                 results.append(future.result())

@@ -37,11 +37,11 @@ from pathlib import Path
 from model.render import meshfile, scene, scenefile
 
 PROG = "python -m sim"
-TEAPOT_TARGET_S = 60  # issue 15: the teapot at 256 x 256 end to end through the RTL
+TEAPOT_TARGET_S = 60  # the target: the teapot at 256 x 256 end to end through the RTL
 VECTOR_CYCLES = 200_000
 MAX_VECTOR_CYCLES = 10_000_000
 VECTOR_SIMS = ("icarus", "verilator")
-# The issue 15 target: the specular unit's vector bench under Verilator, results per second.
+# The target: the specular unit's vector bench under Verilator, results per second.
 VECTOR_TARGET = ("specular_unit", "verilator", 1_000_000)
 # The soak path's stimulus, prediction and vector file together, cycles per CPU second per unit,
 # measured on one run of SOAK_CYCLES cycles (one segment of a long soak, sim/soak.py SEGMENT).

@@ -287,7 +287,8 @@ async def test_rom9_and_decoder_read_on_the_n_write(dut):
         await tb.load(n=n)
         await ReadOnly()
         want = int(words[n if kept else cfg.n_first])
-        assert dut.a_reg.value.to_unsigned() == want, (n, dut.a_reg.value)
+        rom_q = dut.u_rom9.q_a_reg  # ROM 9's read register (the ROM module)
+        assert rom_q.value.to_unsigned() == want, (n, rom_q.value)
         assert int(dut.nerr_reg.value) == int(not kept), n
         if kept:
             k = specular.decode_k(n, tb.cfg)

@@ -103,8 +103,8 @@ def build(
     cache: bool = True,
     timeout: float = 3600,
 ) -> Build:
-    """Build ``sim/vectors/tb_<unit>.v`` with ``rtl`` (a netlist or a broken copy; default the
-    files ``rtl/<unit>.f`` lists) under ``sim``.
+    """Build ``sim/vectors/tb_<unit>.v`` with the files ``rtl/<unit>.f`` lists under ``sim``,
+    ``rtl`` (a netlist or a broken copy) in place of ``rtl/<unit>.v``.
 
     ``params``: NAME -> Verilog value text (strings in double quotes), the unit's parameters
     and optionally RESET_MODES; the vector file and CYCLES are given to ``run``.
@@ -112,7 +112,12 @@ def build(
     if sim not in SIMS:
         raise ValueError(f"sim={sim!r} is not allowed: it must be one of {', '.join(SIMS)}")
     top = f"tb_{unit}"
-    sources = [VECTOR_DIR / f"{top}.v", *([rtl] if rtl else source_list(unit, RTL_DIR))]
+    # rtl takes the place of rtl/<unit>.v; the list's other files (the ROM module) stay, unused
+    # by a flattened netlist
+    listed = source_list(unit, RTL_DIR)
+    if rtl:
+        listed = [Path(rtl) if p.name == f"{unit}.v" else p for p in listed]
+    sources = [VECTOR_DIR / f"{top}.v", *listed]
     common = [f"-I{VECTOR_DIR}", f'-DSHADING_ROM_DIR="{RTL_DIR / "rom"}"']
     digest = hashlib.sha256(tool_version(sim).encode())
     for path in [*sources, VECTOR_DIR / "vector_loop.vh"]:

@@ -126,7 +126,7 @@ def manifest(name: str, cfg: units.UnitConfig, cycles: int, seed: int, stats: di
         "set": name,
         "unit": spec.toplevel,
         "bench": f"sim/vectors/tb_{spec.toplevel}.v",
-        "rtl": f"rtl/{spec.toplevel}.v",
+        "rtl": f"rtl/{spec.toplevel}.f",
         "config": {"type": type(cfg).__name__, **asdict(cfg)},
         "parameters": params,
         "reset_all": [0, 1],

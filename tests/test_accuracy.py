@@ -143,7 +143,7 @@ def test_issue_11_numbers(figs) -> None:
 
 
 def test_issue_13_up5k_numbers(figs) -> None:
-    """UP5K (issue 13): ROM 12 as 4 x 2^11 x 12 bits, so that ROM 9 (1024 x 17: five 1024 x 4
+    """UP5K: ROM 12 as 4 x 2^11 x 12 bits, so that ROM 9 (1024 x 17: five 1024 x 4
     RAM40 blocks) and ROM 12 (per table six 2048 x 2 blocks) take 29 of the UP5K's 30 RAM40; its
     figures as docs/specular.md gives them (its per-n table, and its row of the config table)."""
     cfg = specular.UP5K

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Bad input at the command line and in the study (issue 11, part 5): one test per row.
+"""Bad input at the command line and in the study: one test per row.
 
 Every bad input gets one clear message naming the argument, its value and what is allowed; no
 traceback, no hang, no work lost.  The command line is run in-process (``model.cli.main``)."""

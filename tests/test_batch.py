@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: Apache-2.0
-"""The batched unit calls equal the per-line public calls, row by row (issue 12).
+"""The batched unit calls equal the per-line public calls, row by row.
 
 ``divider.divide_many``, ``gouraud.shade_lines`` and ``specular.shade_lines`` are what the
 renderer runs; every row must be what ``divide``/``cycles``, ``gouraud.shade_line`` and

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: Apache-2.0
-"""The command lines (issue 12): ``shading <command>`` / ``python -m model <command>`` and
+"""The command lines: ``shading <command>`` / ``python -m model <command>`` and
 ``python -m sim bench``.
 
 Every command has its own ``--help`` with examples; ``--scene`` and ``--mesh`` exclude each

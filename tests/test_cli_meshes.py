@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Your own mesh and scene file on the command line (issue 18): ``demo --mesh FILE --up AXIS``
+"""Your own mesh and scene file on the command line: ``demo --mesh FILE --up AXIS``
 renders any format upright with every method and the NMSE table, a messy mesh with its repair
 summary, ``demo --scene FILE`` reproduces a built-in scene byte for byte, and a bad scene file is
 one line, exit 2, before any work."""

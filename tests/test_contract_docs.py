@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: Apache-2.0
-"""The contract tables of docs/<unit>.md point at tests that exist (issue 11, part 2).
+"""The contract tables of docs/<unit>.md point at tests that exist.
 
 Each unit's page opens with "## Contract: every sentence and its test": a table
 ``| # | contract sentence | checked by |`` with one row per claim of the unit's contract.  Every

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Every repository path the documents name exists, and every local link resolves (issue 12).
+"""Every repository path the documents name exists, and every local link resolves.
 
 Read: README.md and docs/*.md (the whole text), the comments of the Verilog files (rtl/*.v,
 sim/vectors/*.v, tests/mutants/*.v) and the docstrings and comments of the Python files

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: Apache-2.0
-"""The formal proofs' quick subset (issue 16; docs/formal.md), in make test.
+"""The formal proofs' quick subset (docs/formal.md), in make test.
 
 The quick jobs of ``model.hw.formal`` at the divider's article configuration: every protocol
 property proven by k-induction (div_zero among them), every cover reached, and the div_zero

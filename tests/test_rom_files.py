@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from model.hw.sources import source_list
 from model.units import divider, rom, specular
 from model.units.rom import RomFileError
 
@@ -192,14 +193,15 @@ def test_format_image_refuses_words_that_do_not_fit() -> None:
 
 
 def _simulate(unit: str, params: dict[str, object], work: Path) -> tuple[int, str]:
-    """Build rtl/<unit>.v alone with ``params`` (iverilog -g2005) and run it (vvp): the ROM
-    check is all that happens.  Returns vvp's exit status and output."""
+    """Build the unit (rtl/<unit>.f: its file and the ROM module) with ``params`` (iverilog
+    -g2005) and run it (vvp): the ROM check is all that happens.  Returns vvp's exit status
+    and output."""
     flags = [
         f'-P{unit}.{k}="{v}"' if isinstance(v, str | Path) else f"-P{unit}.{k}={int(v)}"
         for k, v in params.items()
     ]
     build = subprocess.run(
-        ["iverilog", "-g2005", "-o", "unit.vvp", *flags, str(RTL / f"{unit}.v")],
+        ["iverilog", "-g2005", "-o", "unit.vvp", "-s", unit, *flags, *map(str, source_list(unit))],
         cwd=work,
         capture_output=True,
         text=True,
@@ -224,7 +226,7 @@ DIVIDER_IMAGES = [
     ("edited data word", ARTICLE, _replace_word(TEXT, 3, "0aa"), "check field checksum is"),
     ("n4 image", ARTICLE, divider.rom_text(divider.ROM_CONFIGS["n4"]), "check field magic is"),
     (
-        "n16 image in the default unit (issue 11: 255/3 -> 4.98)",
+        "n16 image in the default unit (255/3 -> 4.98)",
         divider.DEFAULT,
         divider.rom_text(divider.ROM_CONFIGS["n16"]),
         # 17-bit words read as 21-bit ones: the check words no longer spell the magic
@@ -274,7 +276,7 @@ SPECULAR_IMAGES = [
         'COS_ROM_FILE "{COS_ROM_FILE}": check field magic is',
     ),
     (
-        "ROM_ADDR_BITS = 8 with the 12-bit ROM 12 (issue 11)",
+        "ROM_ADDR_BITS = 8 with the 12-bit ROM 12",
         specular.DEFAULT,
         {"ROM_ADDR_BITS": 8},
         'COS_ROM_FILE "{COS_ROM_FILE}": check field magic is',
@@ -330,13 +332,13 @@ def test_cocotb_run_stops_on_a_bad_image(capfd) -> None:
 def _simulate_defaults(
     unit: str, define: str | None, work: Path, run_in: Path | None = None
 ) -> tuple[int, str]:
-    """Build rtl/<unit>.v into ``work`` with its default parameters (no ROM path passed) and, if
-    given, ``-DSHADING_ROM_DIR="<define>"``; run it in ``run_in`` (default ``work``).  Returns
-    vvp's exit status and output."""
+    """Build the unit's sources (rtl/<unit>.f) into ``work`` with its default parameters (no
+    ROM path passed) and, if given, ``-DSHADING_ROM_DIR="<define>"``; run it in ``run_in``
+    (default ``work``).  Returns vvp's exit status and output."""
     flags = [] if define is None else [f'-DSHADING_ROM_DIR="{define}"']
     vvp = work / "defaults.vvp"
     build = subprocess.run(
-        ["iverilog", "-g2005", "-o", str(vvp), *flags, str(RTL / f"{unit}.v")],
+        ["iverilog", "-g2005", "-o", str(vvp), "-s", unit, *flags, *map(str, source_list(unit))],
         cwd=work,
         capture_output=True,
         text=True,

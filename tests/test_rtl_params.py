@@ -40,6 +40,7 @@ from pathlib import Path
 
 import pytest
 
+from model.hw.sources import source_list
 from model.hw.tools import find_tool
 from model.units import divider, gouraud, specular
 
@@ -134,7 +135,7 @@ DIVIDER_CASES = [
     Case("recip_bits=40", {**DIV, "a_width": 22, "recip_bits": 40}, None),
     Case("recip_bits=41", {**DIV, "a_width": 21, "recip_bits": 41}, "RECIP_BITS_must_be_1_to_40"),
     Case(
-        "recip_bits=64 (issue 11)",
+        "recip_bits=64",
         {**DIV, "recip_bits": 64},
         "RECIP_BITS_must_be_1_to_40|A_WIDTH_plus_RECIP_BITS_above_62",
     ),
@@ -220,7 +221,7 @@ SPECULAR_CASES = [
     Case("a_int_bits=0", {"a_int_bits": 0}, "A_INT_BITS_must_be_1_to_8"),
     # The largest a must fit Q(a_int_bits).(a_frac_bits), rounded (a = 7.906 for k = 16)
     Case("a_int_bits=2", {"a_int_bits": 2}, "A_INT_BITS_too_small_for_the_largest_a"),
-    Case("a_int_bits=1 (issue 11)", {"a_int_bits": 1}, "A_INT_BITS_too_small_for_the_largest_a"),
+    Case("a_int_bits=1", {"a_int_bits": 1}, "A_INT_BITS_too_small_for_the_largest_a"),
     Case("a 7.9 at a_frac_bits=1", {"a_frac_bits": 1}, "A_INT_BITS_too_small_for_the_largest_a"),
     Case(
         "inflection a_frac_bits=1", {"alpha": "inflection", "a_frac_bits": 1, "a_int_bits": 4}, None
@@ -321,7 +322,7 @@ SPECULAR_CASES = [
         "MAG_INT_BITS_Z_FRAC_BITS_A_INT_BITS_A_FRAC_BITS_sum_above_61",
     ),
     # Sets only the RTL can express (no model config maps to them)
-    Case("MAG_INT_BITS=0 (issue 11)", {}, "MAG_INT_BITS_must_equal", {"MAG_INT_BITS": 0}),
+    Case("MAG_INT_BITS=0", {}, "MAG_INT_BITS_must_equal", {"MAG_INT_BITS": 0}),
     Case("MAG_INT_BITS=2", {}, "MAG_INT_BITS_must_equal", {"MAG_INT_BITS": 2}),
     Case(
         "unused N_HI3=999",
@@ -388,28 +389,32 @@ def _run(cmd: list[str], cwd: Path) -> tuple[int, str]:
 
 
 def _elaborate(tool: str, unit: str, params: dict[str, object], work: Path) -> tuple[int, str]:
-    """Elaborate rtl/<unit>.v with ``params`` under ``tool``: (exit status, output)."""
-    src = RTL / f"{unit}.v"
+    """Elaborate the unit (rtl/<unit>.f's files) with ``params`` under ``tool``: (exit status,
+    output)."""
+    src = [str(s) for s in source_list(unit)]
     if tool == "icarus":
         flags = [f"-P{unit}.{k}={_value(v)}" for k, v in params.items()]
         out = work / f"{unit}.vvp"
-        return _run(["iverilog", "-g2005", "-o", str(out), *flags, str(src)], work)
+        return _run(["iverilog", "-g2005", "-o", str(out), "-s", unit, *flags, *src], work)
     if tool.startswith("verilator"):
         lang = ["--language", "1364-2005"] if tool == "verilator-2005" else []
         flags = [f"-G{k}={_value(v)}" for k, v in params.items()]
-        return _run(["verilator", "--lint-only", "-Wall", *lang, *flags, str(src)], work)
+        cmd = ["verilator", "--lint-only", "-Wall", *lang, "--top-module", unit, *flags, *src]
+        return _run(cmd, work)
     return _yosys_check(unit, params, work)
 
 
 def _yosys_files(unit: str, params: dict[str, object], work: Path) -> tuple[str, str]:
-    """(source file name, chparam arguments).  yowasp reads only what it can map: the run uses
-    a copy of the source and an empty ROM image in its working folder."""
-    src = RTL / f"{unit}.v"
-    shutil.copy(src, work / src.name)
+    """(source file names, chparam arguments).  yowasp reads only what it can map: the run uses
+    a copy of the sources (rtl/<unit>.f) and an empty ROM image in its working folder."""
+    names = []
+    for src in source_list(unit):
+        shutil.copy(src, work / src.name)
+        names.append(src.name)
     (work / "empty.hex").touch()
     roms = {"divider_shift": ["ROM_FILE"], "specular_unit": ["A_ROM_FILE", "COS_ROM_FILE"]}
     params = {**params, **dict.fromkeys(roms.get(unit, []), "empty.hex")}
-    return src.name, " ".join(f"-set {k} {_yosys_value(v)}" for k, v in params.items())
+    return " ".join(names), " ".join(f"-set {k} {_yosys_value(v)}" for k, v in params.items())
 
 
 def _yosys_check(unit: str, params: dict[str, object], work: Path) -> tuple[int, str]:

@@ -19,6 +19,7 @@ from pathlib import Path
 
 import pytest
 
+from model.hw.sources import source_list
 from model.units import gouraud, specular
 
 RTL = Path(__file__).resolve().parent.parent / "rtl"
@@ -34,7 +35,10 @@ def yosys() -> str:
 
 def elaborate(unit: str, params: dict[str, object], check: str, work: Path) -> None:
     """read, chparam, hierarchy, proc, opt, then ``check`` (a ``select -assert-...``)."""
-    shutil.copy(RTL / f"{unit}.v", work / f"{unit}.v")
+    names = []
+    for src in source_list(unit):
+        shutil.copy(src, work / src.name)
+        names.append(src.name)
     values = []
     for key, value in params.items():
         if key.endswith("ROM_FILE"):
@@ -42,7 +46,7 @@ def elaborate(unit: str, params: dict[str, object], check: str, work: Path) -> N
             value = "empty.hex"
         values.append(f'-set {key} "{value}"' if isinstance(value, str) else f"-set {key} {value}")
     script = (
-        f"read_verilog -defer {unit}.v; chparam {' '.join(values)} {unit}; "
+        f"read_verilog -defer {' '.join(names)}; chparam {' '.join(values)} {unit}; "
         f"hierarchy -check -top {unit}; proc; opt -fast; {check}"
     )
     run = subprocess.run([yosys(), "-q", "-p", script], cwd=work, capture_output=True, text=True)

@@ -49,7 +49,7 @@ def test_divider_rtl_matches_model(request, name: str, reset_all: int) -> None:
 
 
 def test_bench_finds_the_div_zero_leak(request) -> None:
-    """The released divider (div_zero read from the k register at result time, issue 11) fails
+    """The released divider (div_zero read from the k register at result time) fails
     the bench's random-strobe and write-in-start-cycle tests: the deliberate-error probe kept
     as a saved mutant."""
     cfg = divider.DEFAULT

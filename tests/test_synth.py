@@ -202,19 +202,18 @@ def test_every_unit_gets_a_wrapper(unit: str) -> None:
     assert text.count("\n    input  wire ") == 5 and text.count("\n    output wire ") == 1
 
 
-def test_the_units_synthesise_their_one_listed_file() -> None:
-    """A unit's rtl/<unit>.f names its one file, so the run (its sources, its RTL hash) is what
-    it was when the flow read rtl/<unit>.v."""
+def test_the_units_synthesise_their_listed_files() -> None:
+    """A unit's rtl/<unit>.f names its own file first, then the ROM module the divider and the
+    specular unit instantiate; the run reads exactly those files and hashes their bytes."""
     for unit in UNITS:
-        assert source_list(unit) == [(hw_synth.RTL_DIR / f"{unit}.v").resolve()]
-        assert list(hw_synth.rtl_sources(unit)) == [f"{unit}.v"]
+        rom = ["shading_rom.v"] if unit != "gouraud_segment" else []
+        listed = [(hw_synth.RTL_DIR / name).resolve() for name in [f"{unit}.v", *rom]]
+        assert source_list(unit) == listed
+        assert list(hw_synth.rtl_sources(unit)) == [p.name for p in listed]
         params = hw_synth.synth_parameters(unit, hw_synth.config_named(unit, None)[1])
         got = hw_synth.inputs_of(unit, params)["rtl"]
         assert (
-            got
-            == hw_synth.inputs_of(unit, params, (hw_synth.RTL_DIR / f"{unit}.v").read_bytes())[
-                "rtl"
-            ]
+            got == hw_synth.inputs_of(unit, params, b"".join(p.read_bytes() for p in listed))["rtl"]
         )
 
 
@@ -317,7 +316,7 @@ def test_the_specular_page_quotes_the_record(row: str, config: str, part: str) -
 def test_the_up5k_specular_configuration_places_and_routes_on_the_up5k(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
-    """Issue 13's UP5K row, placed and routed here (a fresh cache, so in every CI run) through
+    """The UP5K target row, placed and routed here (a fresh cache, so in every CI run) through
     the six-pin wrapper: it fits the UP5K (block RAMs within its 30) and meets 40 MHz."""
     monkeypatch.setenv("SYNTH_CACHE", str(tmp_path / "cache"))
     r = synthesise("specular_unit", "up5k", "up5k", seed=1)

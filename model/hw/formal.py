@@ -49,6 +49,7 @@ from model.hw.formal_report import OLD_RTL, summarise
 from model.hw.formal_report import config_label as config_label
 from model.hw.formal_report import table as table
 from model.hw.formal_report import to_json as to_json
+from model.hw.sources import source_list
 from model.hw.tools import find_tool
 from model.units import divider, rom
 
@@ -84,7 +85,7 @@ DIVIDER_COVERS = (
 # Registers the induction helpers read: wire in the property file -> register of the unit.
 DIVIDER_INTERNALS = {
     "f_int_a": "a_reg",
-    "f_int_recip": "recip_reg",
+    "f_int_recip": "u_recip_rom.q_a_reg",  # the ROM module's read register
     "f_int_k_zero": "k_zero_reg",
     "f_int_bits": "bits_reg",
     "f_int_run_zero": "run_zero_reg",
@@ -126,9 +127,9 @@ MUTANTS = {
         ),
         Mutant(
             "k_write_in_start_reaches_job",
-            "            bits_reg <= k_zero_reg ? {R_WIDTH{1'b0}} : recip_reg;\n",
-            "            bits_reg <= k_we ? recip_rom[k_in]"
-            " : (k_zero_reg ? {R_WIDTH{1'b0}} : recip_reg);\n",
+            "            bits_reg <= k_zero_reg ? {R_WIDTH{1'b0}} : recip_word;\n",
+            "            bits_reg <= (k_we ? (k_in == {K_WIDTH{1'b0}}) : k_zero_reg)"
+            " ? {R_WIDTH{1'b0}} : recip_word;\n",
             "busy_exact",
         ),
         Mutant(
@@ -291,6 +292,9 @@ def _prepare(job: FormalJob, folder: Path) -> list[str]:
     folder.mkdir(parents=True)
     (folder / f"{job.unit}.v").write_text(_rtl_source(job))
     names = [f"{job.unit}.v"]
+    for path in source_list(job.unit):  # the other files of rtl/<unit>.f (e.g. the ROM module)
+        if path.name != f"{job.unit}.v":
+            names.append(shutil.copyfile(path, folder / path.name).name)
     if job.unit == "divider_shift":
         cfg = CONFIGS[job.config]
         shutil.copyfile(divider.rom_path(cfg), folder / cfg.rom_name)
@@ -359,7 +363,8 @@ def equiv_script(job: FormalJob, names: list[str]) -> str:
     """The Yosys script of an equivalence job: synthesised netlist == RTL."""
     sets = " ".join(f"-set {k} {v}" for k, v in dict(_params(job), RESET_ALL=0).items())
     u = job.unit
-    read = f"read_verilog -defer -DSYNTHESIS {names[0]}; chparam {sets} {u}"
+    verilog = " ".join(n for n in names if n.endswith(".v"))
+    read = f"read_verilog -defer -DSYNTHESIS {verilog}; chparam {sets} {u}"
     return "\n".join(
         [
             f"{read}; synth -flatten -top {u}; rename {u} gate",

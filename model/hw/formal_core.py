@@ -25,7 +25,7 @@ from pathlib import Path
 from typing import Protocol
 
 from model.hw.formal_gouraud import Mutant
-from model.hw.sources import RTL_DIR, source_list
+from model.hw.sources import RTL_DIR
 
 
 class FormalJob(Protocol):
@@ -206,8 +206,9 @@ def rom_files(config: str) -> list[Path]:
 
 
 def sources(job: FormalJob) -> list[Path]:
-    """Verilog read with the property file: the interface rules and the core's submodules."""
-    return [AXIS_PROPS, *(p for p in source_list(UNIT) if p.name != f"{UNIT}.v")]
+    """Verilog read with the property file: the interface rules (``model.hw.formal`` copies the
+    core's submodules from its source list)."""
+    return [AXIS_PROPS]
 
 
 def memory(job: FormalJob) -> str:

@@ -109,7 +109,7 @@ INTERNALS = {
     "f_int_c": "c_reg",
     "f_int_dz": "dz_reg",
     "f_int_z0": "z0_reg",
-    "f_int_a": "a_reg",
+    "f_int_a": "u_rom9.q_a_reg",  # ROM 9's read register (the ROM module)
     "f_int_tsel": "tsel_reg",
     "f_int_c_run": "c_run_reg",
     "f_int_dz_run": "dz_run_reg",
@@ -120,7 +120,7 @@ INTERNALS = {
     "f_int_mag": "mag_reg",
     "f_int_prod": "prod_reg",
     "f_int_addr": "addr_reg",
-    "f_int_rom_q": "rom_q_reg",
+    "f_int_rom_q": "u_rom12.q_a_reg",  # ROM 12's read register
     "f_int_rom_addr": "rom_addr",
     "f_int_a_addr": "a_addr",
 }
@@ -132,7 +132,7 @@ MEMORY = "memory_collect; delete t:$mem_v2; opt_clean"
 # (the reference takes the word the unit read, its address asserted: it holds for any word);
 # ROM 9 kept (its read register holds the word from the n write to the start); the property
 # file's products merged with the unit's (opt_merge: the same $mul cell of the same registers)
-MEMORY_DATA2 = "memory_collect; delete t:$mem_v2 n:*cos_rom %i; opt_clean; opt_merge; opt_clean"
+MEMORY_DATA2 = "memory_collect; delete t:$mem_v2 n:*u_rom12.rom %i; opt_clean; opt_merge; opt_clean"
 
 MUTANTS = {
     m.name: m

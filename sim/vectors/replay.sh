@@ -5,11 +5,12 @@
 #   sim/vectors/replay.sh <set> [icarus|verilator|both]     (default: icarus)
 #
 # <set> is a folder name under sim/vectors/ (e.g. divider_default) or a path to a set folder.
-# Builds sim/vectors/tb_<unit>.v with rtl/<unit>.v and the set's parameters (params.txt; ROM
+# Builds sim/vectors/tb_<unit>.v with rtl/<unit>.f's files and the set's parameters (params.txt; ROM
 # images from rtl/rom, absolute paths, and -DSHADING_ROM_DIR; VECTOR_FILE = the set's
-# vectors.bin) under Icarus (iverilog -g2005, vvp) or Verilator (--binary -O3), and runs it: one instance of the unit with RESET_ALL = 0 and one with
-# RESET_ALL = 1 against the same expected outputs.  Prints the bench's MISMATCH lines and its
-# PASS or FAIL line; exits non-zero on any mismatch or build error.
+# vectors.bin) under Icarus (iverilog -g2005, vvp) or Verilator (--binary -O3), and runs it:
+# one instance of the unit with RESET_ALL = 0 and one with RESET_ALL = 1, each against its own
+# expected outputs (the file carries both predictions).  Prints the bench's MISMATCH lines and
+# its PASS or FAIL line; exits non-zero on any mismatch or build error.
 # REPLAY_BUILD=<dir> builds there (kept; default: a temporary folder, removed).
 set -euo pipefail
 
@@ -38,7 +39,14 @@ top="tb_$unit"
 [ -f "$setdir/vectors.bin" ] || { echo "error: no vector file $setdir/vectors.bin" >&2; exit 2; }
 names+=(VECTOR_FILE)
 values+=("\"$setdir/vectors.bin\"")
-sources=("$here/$top.v" "$rtl/$unit.v")
+# the unit's sources: the files rtl/<unit>.f lists (one a line, relative to rtl/; // comments)
+[ -f "$rtl/$unit.f" ] || { echo "error: no source list $rtl/$unit.f" >&2; exit 2; }
+sources=("$here/$top.v")
+while read -r line; do
+  line=${line%%//*}
+  line=${line//[[:space:]]/}
+  [ -n "$line" ] && sources+=("$rtl/$line")
+done < "$rtl/$unit.f"
 define="SHADING_ROM_DIR=\"$rtl/rom\""
 
 if [ -n "${REPLAY_BUILD:-}" ]; then
