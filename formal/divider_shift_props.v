@@ -80,9 +80,7 @@ divider_shift #(
     .A_WIDTH(A_WIDTH),
     .K_WIDTH(K_WIDTH),
     .RECIP_BITS(RECIP_BITS),
-`ifndef DIVIDER_NO_RESET_ALL
     .RESET_ALL(RESET_ALL),
-`endif
     .ROM_FILE(ROM_FILE)
 ) dut (
     .clk(clk),

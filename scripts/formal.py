@@ -3,8 +3,8 @@
 
 Every job goes through ``model.hw.formal`` (docs/formal.md): the protocol properties proven by
 k-induction, the quotient, every cover reached, every property failing on a deliberately broken
-copy of the RTL, the released divider (before commit ce5dedb, formal/divider_shift_released.v)
-failing its div_zero property, and the synthesised netlist proven equal to the RTL; the same
+copy of the RTL (model.hw.mutants; the divider's div_zero_leak is the defect its released
+version shipped), and the synthesised netlist proven equal to the RTL; the same
 for the segment Gouraud unit (--units gouraud_segment, model.hw.formal_gouraud), and the
 specular unit's protocol proof, covers and deliberate errors, its intensities proven equal to a
 reference formula and its netlist equivalence at a reduced configuration (--units
@@ -31,13 +31,7 @@ from pathlib import Path
 from model.hw import formal
 
 ROOT = Path(__file__).resolve().parent.parent
-OLD_DIVIDER = ROOT / "formal" / "divider_shift_released.v"  # before ce5dedb: the div_zero leak
 UNITS = ("divider_shift", "gouraud_segment", "specular_unit", "shading_core")
-
-
-def old_divider() -> Path:
-    """The divider RTL as released before commit ce5dedb (the div_zero leak), kept in formal/."""
-    return OLD_DIVIDER
 
 
 def parse(argv: list[str] | None) -> argparse.Namespace:
@@ -72,8 +66,7 @@ def main(argv: list[str] | None = None) -> int:
     except formal.FormalError as exc:
         print(f"formal: {exc}", file=sys.stderr)
         return 2
-    old = old_divider()
-    todo = [j for u in args.units for j in formal.jobs(u, quick=args.quick, old_rtl=old)]
+    todo = [j for u in args.units for j in formal.jobs(u, quick=args.quick)]
     print(f"formal: {len(todo)} jobs, {args.jobs} at a time, in {args.out}", flush=True)
 
     def one(job: formal.FormalJob) -> formal.FormalResult:

@@ -3,8 +3,8 @@
 
 The quick jobs of ``model.hw.formal`` at the divider's article configuration: every protocol
 property proven by k-induction (div_zero among them), every cover reached, and the div_zero
-property failing on the saved mutant and on the released RTL
-(``formal/divider_shift_released.v``, before the fix).  The full set (default configuration,
+property failing on the saved mutant ``div_zero_leak`` (the defect the released divider
+shipped).  The full set (default configuration,
 RESET_ALL 0 and 1, the quotient, every mutant, the netlist equivalence) is ``make formal``.
 The segment Gouraud unit's quick jobs (``model.hw.formal_gouraud``) at its small configuration:
 the protocol properties proven by k-induction, every cover reached, the valid_exact property
@@ -37,11 +37,6 @@ AXIS_PROPS = ROOT / "formal" / "axis_props.v"
 DOC = ROOT / "docs" / "formal.md"
 
 
-def released_divider() -> Path:
-    """The divider as released before commit ce5dedb, kept in formal/ (no git history needed)."""
-    return ROOT / "formal" / "divider_shift_released.v"
-
-
 @pytest.fixture(scope="module")
 def quick(tmp_path_factory) -> dict[str, formal.FormalResult]:
     try:
@@ -50,9 +45,8 @@ def quick(tmp_path_factory) -> dict[str, formal.FormalResult]:
         pytest.fail(str(exc))
     # Under the checkout: the WebAssembly Yosys cannot open the host's /tmp.
     out = ROOT / "out" / "formal" / "pytest" / os.environ.get("PYTEST_XDIST_WORKER", "main")
-    old = released_divider()
     results = {}
-    for job in formal.jobs("divider_shift", quick=True, old_rtl=old):
+    for job in formal.jobs("divider_shift", quick=True):
         results[job.name] = formal.run_job(job, out)
     for job in formal.jobs("gouraud_segment", quick=True):
         results[job.name] = formal.run_job(job, out)
@@ -77,11 +71,8 @@ def test_quick_every_cover_is_reached(quick) -> None:
     assert all(s.startswith("reached in step") for _, s in r.rows), r.rows
 
 
-@pytest.mark.parametrize(
-    "name", ["divider_shift_mutant_div_zero_leak", "divider_shift_old_rtl_article"]
-)
-def test_quick_div_zero_property_fails_on_the_leak(quick, name) -> None:
-    r = quick[name]
+def test_quick_div_zero_property_fails_on_the_leak(quick) -> None:
+    r = quick["divider_shift_mutant_div_zero_leak"]
     assert r.ok and r.status == "failed", r.detail
     assert r.detail.startswith("div_zero_of_the_job fails at step"), r.detail
 
@@ -227,7 +218,7 @@ def test_table_and_json_name_every_result(quick) -> None:
         "result",
         "time",
     ]
-    assert "RTL before ce5dedb" in text and "NOT OK" not in text
+    assert "mutant div_zero_leak" in text and "NOT OK" not in text
     record = formal.to_json(results)
     assert record["ok"] is True and len(record["results"]) == len(results)
 
@@ -278,3 +269,46 @@ def test_cli_refuses_bad_arguments(args, message) -> None:
     )
     assert proc.returncode == 2, proc.stdout + proc.stderr
     assert message in proc.stderr
+
+
+def test_quick_specular_kept_range_protocol_is_proven(quick) -> None:
+    """The kept range of n the fit emits (N_FIRST = 17): the protocol proven by k-induction."""
+    r = quick["specular_unit_prove_kept"]
+    assert formal_specular.CONFIGS["kept"].n_first > 1
+    assert r.ok and r.status == "proven", r.detail
+    assert set(r.job.properties) == set(formal_specular.PROTOCOL)
+
+
+# Every mutant job of make formal, and its RESET_ALL = 1 proofs (the slow tier, so CI runs them)
+FORMAL_UNITS = ("divider_shift", "gouraud_segment", "specular_unit", "shading_core")
+MUST_FAIL = {
+    j.name: j
+    for u in FORMAL_UNITS
+    for j in formal.jobs(u)
+    if j.kind == "mutant" or (j.kind == "prove" and j.reset_all == 1)
+}
+
+
+@pytest.mark.parametrize("name", sorted(MUST_FAIL))
+def test_every_formal_mutant_fails_its_property(name: str) -> None:
+    """Each saved mutant of the formal jobs fails the property it targets (and no other one
+    first); each RESET_ALL = 1 proof is proven."""
+    job = MUST_FAIL[name]
+    out = ROOT / "out" / "formal" / "pytest" / os.environ.get("PYTEST_XDIST_WORKER", "main")
+    r = formal.run_job(job, out)
+    if job.kind == "prove":
+        assert r.ok and r.status == "proven", r.detail
+        return
+    assert r.ok and r.status == "failed", f"{name}: {r.status}: {r.detail}"
+    assert r.detail.startswith(f"{job.properties[0]} fails at step"), r.detail
+
+
+def test_the_slow_tier_runs_every_mutant_and_reset_all_proof() -> None:
+    """Every unit's mutants and its RESET_ALL = 1 proofs are in MUST_FAIL."""
+    modules = {"divider_shift": formal, "gouraud_segment": formal_gouraud}
+    modules |= {"specular_unit": formal_specular, "shading_core": formal_core}
+    for unit, module in modules.items():
+        names = {j.mutant for j in MUST_FAIL.values() if j.unit == unit and j.kind == "mutant"}
+        assert names == set(module.MUTANTS), unit
+    proofs = {j.unit for j in MUST_FAIL.values() if j.kind == "prove"}
+    assert proofs == {"divider_shift", "gouraud_segment", "specular_unit"}

@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """Which tests are too slow for `make test` and run in `make test-slow` (both: `make check`).
 
-`make test` is the quick tier (issue 15: under 90 s on 2 cores): every model test, the vector
+`make test` is the quick tier: every model test, the vector
 soaks that carry the bulk random RTL checking, the cocotb protocol, reset and scoreboard tests,
 and a quick subset of each long flow (formal, synthesis, FuseSoC, gate level, the fit, the
 scene co-simulation).  The tests named here are the rest: a long flow run whole, a second
@@ -116,6 +116,11 @@ SLOW: dict[str, str] = {
     ),
     "tests/test_fit_record.py::test_search_finds_the_recorded_design": (
         "the teapot's whole search (9 s); quick: the record's other checks"
+    ),
+    # -- formal: every saved mutant and the RESET_ALL = 1 proofs (make formal runs them too)
+    "tests/test_formal.py::test_every_formal_mutant_fails_its_property": (
+        "each of the 38 mutant jobs and 3 RESET_ALL = 1 proofs through SymbiYosys (1 to 40 s "
+        "each); quick: one mutant a unit in the quick fixture of tests/test_formal.py"
     ),
     # -- the long soaks
     "tests/test_soak.py::test_ten_million_cycle_soak": (

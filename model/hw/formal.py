@@ -13,8 +13,9 @@ registers, the asserts, covers and induction helpers).  Job kinds:
   ``flatten`` (``connect -nounset -set``), the RTL is not changed;
 * ``cover``: ``mode cover``: every cover statement must be reached;
 * ``mutant``: ``mode bmc`` on a deliberately broken copy of the RTL (a one-snippet change made
-  afresh for the run, or a whole file such as the released RTL before commit ce5dedb) with one
-  property on: it must fail, with that property, within the depth;
+  afresh for the run, ``model.hw.mutants``; the divider's ``div_zero_leak`` is the defect its
+  released version shipped) with one property on: it must fail, with that property, within
+  the depth;
 * ``bmc``: ``mode bmc`` on the RTL: a bounded check that must pass (no assert fails within the
   depth);
 * ``equiv``: Yosys alone: the unit synthesised (``synth -flatten``, written as a netlist and
@@ -44,11 +45,12 @@ from pathlib import Path
 from model.hw import formal_core as core_jobs
 from model.hw import formal_gouraud as gouraud_jobs
 from model.hw import formal_specular as specular_jobs
-from model.hw.formal_gouraud import Mutant
-from model.hw.formal_report import OLD_RTL, summarise
+from model.hw import mutants
 from model.hw.formal_report import config_label as config_label
+from model.hw.formal_report import summarise
 from model.hw.formal_report import table as table
 from model.hw.formal_report import to_json as to_json
+from model.hw.mutants import Mutant
 from model.hw.sources import source_list
 from model.hw.tools import find_tool
 from model.units import divider, rom
@@ -171,7 +173,7 @@ class FormalJob:
     depth: int = 3
     arith: bool = False  # also prove the quotient (P_QUOTIENT)
     properties: tuple[str, ...] = ()  # what a pass shows (covers for cover jobs)
-    mutant: str = ""  # a name of MUTANTS, or OLD_RTL
+    mutant: str = ""  # a name of the unit's MUTANTS
     rtl: str = ""  # path of the RTL file (default rtl/<unit>.v)
     engine: str = "smtbmc z3"  # the SymbiYosys engine line
 
@@ -204,11 +206,9 @@ def _unit_data(unit: str):
     return CONFIGS, DIVIDER_PROPERTIES, MUTANTS, DIVIDER_INTERNALS, "-DDIVIDER_INTERNALS"
 
 
-def jobs(unit: str = "divider_shift", quick: bool = False, old_rtl: Path | None = None):
+def jobs(unit: str = "divider_shift", quick: bool = False):
     """The jobs of ``unit`` (others than the divider: formal_<unit>.jobs); ``quick``: the subset
-    make test runs (article configuration);
-    ``old_rtl``: an old RTL file that must fail the div_zero property (e.g. the divider before
-    commit ce5dedb)."""
+    make test runs (article configuration)."""
     _unit_data(unit)
     if unit in UNIT_JOBS:
         return UNIT_JOBS[unit].jobs(FormalJob, quick=quick)
@@ -229,10 +229,6 @@ def jobs(unit: str = "divider_shift", quick: bool = False, old_rtl: Path | None 
         prop = MUTANTS[m].breaks
         arith = prop == "quotient"
         add(f"mutant_{m}", "mutant", "article", depth=14, arith=arith, properties=(prop,), mutant=m)
-    if old_rtl is not None:
-        for c in ("article",) if quick else ("article", "default"):
-            kw = {"properties": ("div_zero_of_the_job",), "mutant": OLD_RTL, "rtl": str(old_rtl)}
-            add(f"old_rtl_{c}", "mutant", c, depth=8, **kw)
     if not quick:
         for c in ("default", "article"):
             add(f"equiv_{c}", "equiv", c, depth=0, properties=("netlist_equals_rtl",))
@@ -272,17 +268,12 @@ def _rtl_source(job: FormalJob) -> str:
     path = Path(job.rtl) if job.rtl else RTL_DIR / f"{job.unit}.v"
     if not path.is_file():
         raise FormalError(f"RTL file {path} does not exist")
-    text = path.read_text()
-    if job.mutant and job.mutant != OLD_RTL:
-        m = _unit_data(job.unit)[2][job.mutant]
-        count = text.count(m.original)
-        if count != 1:
-            raise FormalError(
-                f"mutant {m.name}: its snippet occurs {count} times in {path.name}, expected "
-                "once: update MUTANTS in model/hw/formal.py to the RTL"
-            )
-        text = text.replace(m.original, m.replacement)
-    return text
+    if not job.mutant:
+        return path.read_text()
+    try:
+        return mutants.source(_unit_data(job.unit)[2][job.mutant], job.unit, path)
+    except mutants.MutantError as exc:
+        raise FormalError(str(exc)) from exc
 
 
 def _prepare(job: FormalJob, folder: Path) -> list[str]:
@@ -316,8 +307,6 @@ def sby_text(job: FormalJob, names: list[str]) -> str:
     _, properties, _, internals, define = _unit_data(job.unit)
     if job.kind in ("prove", "bmc"):  # the helpers: hypotheses of the later steps in a bmc
         defines.append(define)
-    if job.mutant == OLD_RTL:
-        defines.append("-DDIVIDER_NO_RESET_ALL")
     params = dict(_params(job), RESET_ALL=job.reset_all, ARITH=int(job.arith))
     if job.kind == "mutant":
         params["CHECK"] = properties[job.properties[0]]

@@ -14,7 +14,7 @@ the ROM words; the images read by ``$readmemh`` are placeholders of zeros (``rom
 
 The configuration is a plain dict of the core's Verilog parameters (the keys of
 ``model.render.core.core_parameters``, which this layer does not import; tests/test_formal.py
-checks the keys agree).  Layer 2: imports ``model.hw.formal_gouraud`` (``Mutant``) and
+checks the keys agree).  Layer 2: imports ``model.hw.mutants`` (``Mutant``) and
 ``model.hw.sources``.
 """
 
@@ -24,7 +24,7 @@ import tempfile
 from pathlib import Path
 from typing import Protocol
 
-from model.hw.formal_gouraud import Mutant
+from model.hw.mutants import Mutant
 from model.hw.sources import RTL_DIR
 
 

@@ -2,15 +2,14 @@
 """The segment Gouraud unit's formal jobs (make formal; docs/formal.md): its configurations and
 parameters, property numbers, covers, induction helper connections and deliberate errors.
 
-``model.hw.formal`` runs them like the divider's; this module holds the unit's data only (and
-``Mutant``, the one-snippet change both units use).  The property file is
-``formal/gouraud_segment_props.v``.  Layer 2: imports ``model.units`` only.
+``model.hw.formal`` runs them like the divider's; this module holds the unit's data only (its
+deliberate errors are ``model.hw.mutants.Mutant`` snippets).  The property file is
+``formal/gouraud_segment_props.v``.  Layer 2: imports ``model.units`` and ``model.hw.mutants``.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
+from model.hw.mutants import Mutant
 from model.units import gouraud
 
 UNIT = "gouraud_segment"
@@ -58,16 +57,6 @@ INTERNALS = {
     "f_int_start": "start_reg",
 }
 DEFINE = "-DGOURAUD_INTERNALS"
-
-
-@dataclass(frozen=True)
-class Mutant:
-    """The unit's RTL with ``original`` (exactly once in it) replaced by ``replacement``."""
-
-    name: str
-    original: str
-    replacement: str
-    breaks: str  # the property that must fail on it
 
 
 MUTANTS = {
@@ -173,6 +162,7 @@ def jobs(make, quick: bool = False) -> list:
         )
         return out
     add("prove_default", "prove", "default", arith=True, properties=tuple(PROPERTIES))
+    add("prove_small_r1", "prove", "small", reset_all=1, properties=PROTOCOL)
     add("prove_small_arith", "prove", "small", arith=True, properties=(*PROPERTIES, PRODUCT))
     add("cover_default", "cover", "default", depth=10, arith=True, properties=COVERS)
     add("cover_small", "cover", "small", depth=10, arith=True, properties=COVERS)

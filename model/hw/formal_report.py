@@ -38,8 +38,6 @@ class FormalResult(Protocol):
     def to_json(self) -> dict: ...
 
 
-OLD_RTL = "released"  # the mutant name of a whole old RTL file passed to jobs(old_rtl=...)
-
 FAILED = re.compile(r"failed assertion \S*?\.(\w+) at .*? step (\d+)")
 REACHED = re.compile(r"Reached cover statement in step (\d+) at \S+: (?:\S*\.)?(\w+)")
 
@@ -98,8 +96,6 @@ def tail(log: str, lines: int = 8) -> str:
 
 
 def config_label(job: FormalJob) -> str:
-    if job.mutant == OLD_RTL:  # it has no RESET_ALL parameter
-        return f"{job.config}, RTL before ce5dedb"
     text = f"{job.config}, RESET_ALL={job.reset_all}"
     if job.mutant:
         text += f", mutant {job.mutant}"

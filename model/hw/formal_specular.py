@@ -11,7 +11,7 @@ the default, the unit's reads and products with their addresses and operands ass
 (``memory``).
 Without DATA the data output is not observed but in the proof of ``intensity_zero_on_n_err``
 (ARITH), and both ROMs are removed with their read data left free (``MEMORY``): the ROM
-contents take no part.  Layer 2: imports ``model.units`` and ``model.hw.formal_gouraud``
+contents take no part.  Layer 2: imports ``model.units`` and ``model.hw.mutants``
 (``Mutant``).
 """
 
@@ -21,7 +21,7 @@ import tempfile
 from pathlib import Path
 from typing import Protocol
 
-from model.hw.formal_gouraud import Mutant
+from model.hw.mutants import Mutant
 from model.units import rom, specular
 
 
@@ -52,7 +52,9 @@ SMALL = specular.SpecularConfig(
     n_first=1,
     n_last=8,
 )
-CONFIGS = {"default": specular.DEFAULT, "small": SMALL}
+# kept: the kept range of n that shading fit emits (N_FIRST = 17, N_LAST = 40: ROM 9 holds a
+# for those n only, every other n is an error), its protocol proven like the default's
+CONFIGS = {"default": specular.DEFAULT, "small": SMALL, "kept": specular.KEPT}
 # Property labels of formal/specular_unit_props.v and the CHECK number that selects each alone.
 PROPERTIES = {
     "busy_exact": 1,
@@ -282,8 +284,8 @@ def params(config: str, kind: str = "prove") -> dict[str, object]:
 
 def jobs(make, quick: bool = False) -> list:
     """The unit's jobs, made by ``make(name, unit, kind, config, **fields)`` (FormalJob);
-    ``quick``: the protocol proof, the covers and one mutant at the default, the data-path
-    proof at ``small``; else also the bounded check of the data path at the default (DATA = 2)
+    ``quick``: the protocol proof, the covers and one mutant at the default, the protocol proof
+    at ``kept`` (N_FIRST > 1, as the fit emits), the data-path proof at ``small``; else also the bounded check of the data path at the default (DATA = 2)
     and its mutant."""
     out = []
 
@@ -291,6 +293,7 @@ def jobs(make, quick: bool = False) -> list:
         out.append(make(f"{UNIT}_{name}", UNIT, kind, config, **kw))
 
     add("prove_default", "prove", "default", arith=True, properties=PROTOCOL)
+    add("prove_kept", "prove", "kept", arith=True, properties=PROTOCOL)
     if not quick:  # RESET_ALL = 1 resets the data path too (intensity_zero_on_n_err reads it)
         kw = {"reset_all": 1, "arith": True, "properties": PROTOCOL}
         add("prove_default_r1", "prove", "default", **kw)

@@ -1,11 +1,12 @@
 # SPDX-License-Identifier: Apache-2.0
 """Saved mutants: the current RTL with one known defect put in, to prove the benches find it.
 
-Each mutant is the unit's file from ``rtl/`` with one exact snippet replaced, made afresh for
-every run (``build``), so it always follows the RTL and shares its ROM checks; if the snippet
-is no longer in the RTL exactly once, ``build`` fails instead of testing a stale copy.
+Each mutant is a ``model.hw.mutants.Mutant`` (the one mechanism for broken copies, which the
+formal jobs use too): the unit's file from ``rtl/`` with one exact snippet replaced, made afresh
+for every run (``build``), so it always follows the RTL and shares its ROM checks; if the
+snippet is no longer in the RTL exactly once, ``build`` fails instead of testing a stale copy.
 
-* ``divider_shift_div_zero_leak``: the defect the release before issue 11 shipped: div_zero is
+* ``divider_shift_div_zero_leak``: the defect the released divider shipped: div_zero is
   taken from the k register when the result is written, so a k write in the start cycle
   (accepted for the next division) leaks into the running division's flag.  The vector soak
   (tests/test_soak.py) and the cocotb bench (tests/test_sim_divider.py) must fail on it,
@@ -23,59 +24,44 @@ is no longer in the RTL exactly once, ``build`` fails instead of testing a stale
 
 from __future__ import annotations
 
-from dataclasses import dataclass
 from pathlib import Path
 
-from sim.runner import RTL_DIR
-
-
-@dataclass(frozen=True)
-class Mutant:
-    unit: str  # the rtl/<unit>.v it is made from (its module name stays the same)
-    original: str
-    replacement: str
-
+from model.hw import mutants
+from model.hw.mutants import Mutant
 
 MUTANTS = {
     "divider_shift_div_zero_leak": Mutant(
-        "divider_shift",
+        "divider_shift_div_zero_leak",
         "            div_zero_reg <= run_zero_reg;\n",
         "            div_zero_reg <= k_zero_reg;  // MUTANT: the k register at result time\n",
+        unit="divider_shift",
     ),
     "divider_shift_busy_stuck": Mutant(
-        "divider_shift",
+        "divider_shift_busy_stuck",
         "            // The remaining reciprocal bits are all zero: the quotient is complete\n"
         "            busy_reg <= 1'b0;\n",
         "            // The remaining reciprocal bits are all zero: the quotient is complete\n"
         "            busy_reg <= 1'b1;  // MUTANT: busy never falls\n",
+        unit="divider_shift",
     ),
     "divider_shift_div_zero_glitch": Mutant(
-        "divider_shift",
+        "divider_shift_div_zero_glitch",
         "assign div_zero = div_zero_reg;\n",
         # One changed line: a register pair that is 1 in the second busy cycle only.
         "reg glitch_1, glitch_2; always @(posedge clk) begin glitch_1 <= rst_n && start && "
         "!busy_reg; glitch_2 <= rst_n && glitch_1 && busy_reg; end assign div_zero = "
         "div_zero_reg ^ glitch_2;  // MUTANT: div_zero flips for one cycle mid-division\n",
+        unit="divider_shift",
     ),
     "divider_shift_reset_all_q": Mutant(
-        "divider_shift",
+        "divider_shift_reset_all_q",
         "        q_reg <= {Q_WIDTH{1'b0}};\n",
         "        q_reg <= {Q_WIDTH{1'b1}};  // MUTANT: RESET_ALL = 1 resets q to all ones\n",
+        unit="divider_shift",
     ),
 }
 
 
 def build(name: str, folder: Path) -> Path:
     """Write mutant ``name`` as ``folder/<name>.v`` and return its path."""
-    mutant = MUTANTS[name]
-    source = (RTL_DIR / f"{mutant.unit}.v").read_text()
-    count = source.count(mutant.original)
-    if count != 1:
-        raise AssertionError(
-            f"mutant {name}: its snippet occurs {count} times in rtl/{mutant.unit}.v, "
-            "expected once: update tests/mutants/__init__.py to the RTL"
-        )
-    folder.mkdir(parents=True, exist_ok=True)
-    path = folder / f"{name}.v"
-    path.write_text(source.replace(mutant.original, mutant.replacement))
-    return path
+    return mutants.write(MUTANTS[name], folder)
