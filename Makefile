@@ -34,7 +34,7 @@ tools:
 demo: setup tools
 	$(PY) -m model demo
 
-# The quick tier (issue 15: under 90 s on 2 cores): every test but the ones tests/tiers.py names
+# The quick tier: every test but the ones tests/tiers.py names
 # (long flows run whole, second simulators, place-and-route), which `make test-slow` runs;
 # `make check` runs both tiers.
 test: setup tools

@@ -4,6 +4,8 @@
 from __future__ import annotations
 
 import ast
+import re
+import subprocess
 from pathlib import Path
 
 TESTS = Path(__file__).resolve().parent
@@ -58,3 +60,22 @@ def test_a_missing_teapot_fails_plainly_and_no_test_fetches_it(monkeypatch, tmp_
         if p.resolve() != this and "TEAPOT_FETCH" in p.read_text()
     ]
     assert not fetching, f"tests that fetch the teapot themselves: {fetching}"
+
+
+def test_the_project_speaks_of_itself_not_of_its_tracker() -> None:
+    """No tracked text file refers to a tracker entry by number ("issue" and a number): code,
+    docs and tests say what a thing does and why."""
+    root = TESTS.parent
+    listed = subprocess.run(
+        ["git", "ls-files", "-z"], cwd=root, capture_output=True, text=True, check=True
+    ).stdout.split("\0")
+    pattern = re.compile(r"\bissues?\s*#?\d", re.IGNORECASE)
+    found = []
+    for name in filter(None, listed):
+        path = root / name
+        if not path.is_file() or path.suffix in {".bin", ".png", ".hex", ".json"}:
+            continue
+        for number, line in enumerate(path.read_text(errors="replace").splitlines(), 1):
+            if pattern.search(line):
+                found.append(f"{name}:{number}: {line.strip()}")
+    assert not found, "\n".join(found)
