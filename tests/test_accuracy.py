@@ -123,9 +123,9 @@ def test_unit_rows_keep_every_row_once(figs) -> None:
     assert sorted(cut) == sorted(rows)
 
 
-# ==================================================================== the issue's numbers
-def test_issue_11_numbers(figs) -> None:
-    """The figures the issue measured independently."""
+# ======================================================== numbers measured independently
+def test_independently_measured_numbers(figs) -> None:
+    """Figures measured independently of the accuracy command (by hand, in a float check)."""
     acc = figs.specular["default"]
     assert 100 * acc.rom_rel[3 - 1] == pytest.approx(1.1323, abs=5e-5)  # broke the old 0.0113
     assert acc.rom_rel[3 - 1] > 0.0113
@@ -142,7 +142,7 @@ def test_issue_11_numbers(figs) -> None:
     assert figs["lsb_approx_any_c"].value > 0.99
 
 
-def test_issue_13_up5k_numbers(figs) -> None:
+def test_up5k_numbers(figs) -> None:
     """UP5K: ROM 12 as 4 x 2^11 x 12 bits, so that ROM 9 (1024 x 17: five 1024 x 4
     RAM40 blocks) and ROM 12 (per table six 2048 x 2 blocks) take 29 of the UP5K's 30 RAM40; its
     figures as docs/specular.md gives them (its per-n table, and its row of the config table)."""

@@ -122,6 +122,11 @@ SLOW: dict[str, str] = {
         "each of the 38 mutant jobs and 3 RESET_ALL = 1 proofs through SymbiYosys (1 to 40 s "
         "each); quick: one mutant a unit in the quick fixture of tests/test_formal.py"
     ),
+    # -- make lint whole (Verilator twice, Icarus and Yosys over every RTL file, then ruff)
+    "tests/test_make_targets.py::test_make_lint_passes": (
+        "make lint whole, about a minute; quick: test_rtl_params.py elaborates every unit under "
+        "every tool, and the hook lints each file"
+    ),
     # -- the long soaks
     "tests/test_soak.py::test_ten_million_cycle_soak": (
         "10M cycles of each unit's default configuration (7 to 15 s each alone, 21 to 26 s two "

@@ -285,8 +285,8 @@ def params(config: str, kind: str = "prove") -> dict[str, object]:
 def jobs(make, quick: bool = False) -> list:
     """The unit's jobs, made by ``make(name, unit, kind, config, **fields)`` (FormalJob);
     ``quick``: the protocol proof, the covers and one mutant at the default, the protocol proof
-    at ``kept`` (N_FIRST > 1, as the fit emits), the data-path proof at ``small``; else also the bounded check of the data path at the default (DATA = 2)
-    and its mutant."""
+    at ``kept`` (N_FIRST > 1, as the fit emits), the data-path proof at ``small``; else also
+    the bounded check of the data path at the default (DATA = 2) and its mutant."""
     out = []
 
     def add(name: str, kind: str, config: str, **kw) -> None:
