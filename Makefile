@@ -152,7 +152,7 @@ formal: setup
 # Take-away vector sets (docs/fpga.md, "Vector benches"): stimulus and the model's responses of
 # every unit, written into sim/vectors/<set>/ (committed; run again after a model change), and
 # their replay through the plain Verilog benches under Icarus and Verilator (no Python).
-.PHONY: vectors vectors-sim gate coverage
+.PHONY: vectors vectors-sim gate coverage mutants
 vectors: setup
 	$(PY) -m sim.vector_sets
 	$(PY) -m sim.core_run
@@ -166,6 +166,14 @@ vectors-sim: tools
 # sets replayed on the netlists under Icarus and Verilator (sim/gate.py).
 gate: setup tools
 	$(PY) -m sim.gate
+
+# Mutation testing (docs/verification.md, "Mutation testing"): Yosys mutate lists of every unit
+# and of the shading core, all of a list in one netlist (mutate -ctrl), each mutant through the
+# committed vector sets, then stronger checks, survivors through a formal equivalence check
+# (sim/mutation.py); prints the table, writes the record docs/mutants.json and its table into
+# docs/verification.md.
+mutants: setup tools
+	$(PY) -m sim.mutation --record docs/mutants.json --docs docs/verification.md
 
 # Line and toggle coverage under Verilator (docs/verification.md, "Coverage"): each unit's vector
 # sets and soaks and the core's stream bench, merged and annotated per unit into out/coverage/,

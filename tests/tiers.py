@@ -133,6 +133,19 @@ SLOW: dict[str, str] = {
         "at a time on 2 cores); quick: the same soaks at 150k (divider) and 350k cycles "
         "(Gouraud, specular)"
     ),
+    # -- mutation testing (make mutants): the whole lists; the quick tier runs a sample
+    "tests/test_mutation.py::test_the_whole_lists_give_the_record_s_figures": (
+        "1200 mutants through their checks (about 10 minutes here under load); quick: "
+        "test_sampled_mutants_are_killed, 12 a design"
+    ),
+    "tests/test_mutation.py::test_sampled_mutants_are_killed[specular_unit]": (
+        "a fresh Verilator build of the netlist with its tables (35 s, minutes under load); "
+        "quick: the divider's and the Gouraud unit's samples"
+    ),
+    "tests/test_mutation.py::test_sampled_mutants_are_killed[shading_core]": (
+        "a fresh Verilator build of the core's netlist (140 s under load); quick: the divider's "
+        "and the Gouraud unit's samples"
+    ),
     # -- second simulator runs of checks the quick tier makes under Icarus
     "tests/test_vectors.py::test_timed_replay_of_a_generated_stimulus[verilator]": (
         "a Verilator build of every unit (45 s); quick: the Icarus run"

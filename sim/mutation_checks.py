@@ -1,0 +1,259 @@
+# SPDX-License-Identifier: Apache-2.0
+"""The checks a mutant of ``make mutants`` meets (sim/mutation.py), in order, and one run of
+one: a unit's committed vector set, then soaks of the same configuration with other seeds; the
+core's committed set as the FuseSoC sim target runs it, then at full rate, with other idles
+and stalls, and random spans.  A check's files (a soak, the random spans) are written when a
+mutant first reaches it, afresh: the generators and the model may change."""
+
+from __future__ import annotations
+
+import random
+import re
+import subprocess
+from collections.abc import Callable
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from model.render import core
+from model.render.pipeline import METHODS
+from sim import core_run, soak_file, soak_predict, soak_stimulus, units, vector_run, vector_sets
+
+SIM = "verilator"
+# the netlist's mutation select input
+CTRL = "mutsel"
+# The core's committed set is written for the pipeline configuration of method (h): both paths.
+CORE_CONFIG = METHODS["diffuse"]
+
+# The stronger checks a mutant meets after its committed set: (name, seed, cycles) of a soak of
+# the unit's default configuration; for the core (name, spans, idle %, stall %, seed).
+UNIT_SOAKS: tuple[tuple[str, int, int], ...] = (
+    ("soak seed 1, 100k cycles", 1, 100_000),
+    ("soak seed 2, 100k cycles", 2, 100_000),
+)
+CORE_RUNS: tuple[tuple[str, str, int, int, int], ...] = (
+    # the FuseSoC sim target's run of the committed set comes first (the design's vector set)
+    ("core_default at full rate", "committed", 0, 0, 1),
+    ("core_default, 50 % idles and stalls, seed 7", "committed", 50, 50, 7),
+    ("2000 random spans, 1 to 40 and 2047 pixels, 20 % idles, 30 % stalls", "random", 20, 30, 3),
+)
+CORE_RANDOM_SPANS = 2000
+CORE_RANDOM_SEED = 11
+
+
+@dataclass(frozen=True)
+class Check:
+    """One check a mutant meets: a vector file of the unit's bench, or a run of the core's."""
+
+    name: str
+    vector_file: Path | None = None  # units
+    cycles: int = 0
+    spans: Path | None = None  # the core
+    expect: Path | None = None
+    n_spans: int = 0
+    n_pixels: int = 0
+    idle_pct: int = 0
+    stall_pct: int = 0
+    seed: int = 1
+    # writes the check's files (a soak, random spans) when a mutant first reaches the check
+    writer: Callable[[], None] | None = field(default=None, compare=False, repr=False)
+
+
+@dataclass(frozen=True)
+class Bench:
+    """The built bench: the command (without plusargs), its folder, the build's seconds."""
+
+    command: tuple[str, ...]
+    folder: Path
+    seconds: float
+
+
+def unit_checks(vector_set: str, folder: Path) -> list[Check]:
+    """The committed set, then the longer soaks of the same configuration (written on first
+    use into ``folder``)."""
+    set_dir = vector_run.VECTOR_DIR / vector_set
+    _, params = vector_sets.set_parameters(set_dir)
+    checks = [Check(vector_set, set_dir / "vectors.bin", int(params["CYCLES"]))]
+    cfg = vector_sets.SETS[vector_set][0]
+    for name, seed, cycles in UNIT_SOAKS:
+        soak_dir = folder / "checks" / f"soak_{seed}_{cycles}"
+
+        def write(soak_dir: Path = soak_dir, seed: int = seed, cycles: int = cycles) -> None:
+            soak_dir.mkdir(parents=True, exist_ok=True)  # afresh: the generator may change
+            vector_sets.write_stimulus(cfg, cycles, seed, soak_dir)
+
+        checks.append(Check(name, soak_dir / "vectors.bin", cycles, writer=write))
+    directed_dir = folder / "checks" / "directed"
+    n_cycles = len(directed_inputs(cfg))
+
+    def write_directed() -> None:
+        directed_dir.mkdir(parents=True, exist_ok=True)
+        stim = soak_stimulus.from_inputs(units.spec(cfg), directed_inputs(cfg))
+        pred = soak_predict.predict(cfg, stim)
+        soak_file.write_vector_file(cfg, stim, pred, directed_dir / "vectors.bin")
+
+    checks.append(Check(DIRECTED, directed_dir / "vectors.bin", n_cycles, writer=write_directed))
+    return checks
+
+
+DIRECTED = "directed: each operand at 0, 1, the powers of two and their neighbours, its ends"
+DIRECTED_SEED = 5
+
+
+def corners(lo: int, hi: int, width: int) -> list[int]:
+    """0, 1, every power of two and its neighbours, of either sign, and both ends, in lo..hi."""
+    values = {0, 1, lo, lo + 1, hi, hi - 1}
+    for k in range(width + 1):
+        for v in ((1 << k) - 1, 1 << k, (1 << k) + 1):
+            values.update((v, -v))
+    return sorted(v for v in values if lo <= v <= hi)
+
+
+def directed_inputs(cfg: units.UnitConfig) -> list[dict[str, int]]:
+    """Reset, then one job per corner value of each operand (``corners``; every n of the
+    specular unit), the other operands random (short lines), each written, started and
+    waited for, every other one followed by a reset cycle."""
+    spec = units.spec(cfg)
+    ops = spec.operands
+    rng = random.Random(DIRECTED_SEED)
+    ranges = {p.name: soak_stimulus.port_range(p) for p in ops}
+    idle = {"rst_n": 1, "start": 0}
+    rows: list[dict[str, int]] = []
+    held = {p.name: 0 for p in ops}
+
+    def row(base: dict[str, int], we: int) -> dict[str, int]:
+        out = dict(base)
+        for p in ops:
+            out[f"{p.name}_we"] = we
+            out[f"{p.name}_in"] = held[p.name]
+        return out
+
+    rows += [row({"rst_n": 0, "start": 0}, 0)] * 3
+    for p in ops:
+        values = corners(*ranges[p.name], p.width)
+        if p.name == "n":
+            values = list(range(ranges["n"][0], ranges["n"][1] + 1))
+        for index, v in enumerate(values):
+            for q in ops:
+                lo, hi = ranges[q.name]
+                held[q.name] = (
+                    v if q is p else rng.randint(lo, min(hi, 40) if q.name == "len" else hi)
+                )
+            rows.append(row(idle, 1))
+            rows.append(row({"rst_n": 1, "start": 1}, 0))
+            length = held.get("len", 0)
+            wait = {
+                "divider_shift": 24,
+                "gouraud_segment": length // max(getattr(cfg, "p", 1), 1) + 4,
+            }
+            rows += [row(idle, 0)] * wait.get(spec.toplevel, length + 24)
+            if index % 2 == 0:  # a reset after every other job, its flags still up
+                rows.append(row({"rst_n": 0, "start": 0}, 0))
+    return rows
+
+
+def core_checks(folder: Path) -> list[Check]:
+    """The committed set as the FuseSoC sim target runs it, then the stronger runs."""
+    committed = vector_run.VECTOR_DIR / "core_default"
+    spans, pixels = committed / "spans.hex", committed / "pixels.hex"
+    n_spans = len(spans.read_text().split())
+    n_pixels = pixels.read_text().count("\n")
+    checks = [Check("core_default", None, 0, spans, pixels, n_spans, n_pixels, 20, 30, 1)]
+    rand_spans, rand_pixels = folder / "checks" / "spans.hex", folder / "checks" / "pixels.hex"
+
+    def write() -> None:
+        """Short spans of every length to 40 pixels and a few of the longest, every field
+        random, and the model's pixel beats (afresh each run: the model may change)."""
+        import numpy as np
+
+        fmt = core.SpanFormat(CORE_CONFIG)
+        rng = np.random.default_rng(CORE_RANDOM_SEED)
+        lengths = rng.integers(1, 41, CORE_RANDOM_SPANS)
+        lengths[::400] = CORE_CONFIG.gouraud.len_max
+        words = core_run.random_spans(fmt, lengths, CORE_RANDOM_SEED)
+        pix = core.PixelFormat(fmt.x_width, fmt.y_width)
+        digits, pdigits = -(-fmt.width // 4), -(-pix.width // 4)
+        rand_spans.parent.mkdir(parents=True, exist_ok=True)
+        rand_spans.write_text("".join(f"{w:0{digits}x}\n" for w in words))
+        beats = core.core_pixels(words, fmt)
+        rand_pixels.write_text(
+            "".join(
+                f"{core.pixel_word(p, pix):0{pdigits}x} {p['last']:x} {p['n_err']:x}\n"
+                for p in beats
+            )
+        )
+
+    for name, which, idle, stall, seed in CORE_RUNS:
+        if which == "committed":
+            checks.append(Check(name, None, 0, spans, pixels, n_spans, n_pixels, idle, stall, seed))
+        else:
+            checks.append(
+                Check(name, None, 0, rand_spans, rand_pixels, CORE_RANDOM_SPANS, 0, idle,
+                      stall, seed, writer=write)
+            )  # fmt: skip
+    return checks
+
+
+def passes(bench: Bench, check: Check, mutant: int, work: Path) -> bool:
+    """Mutant ``mutant`` passes ``check`` (no mismatch, the bench finished)."""
+    if check.vector_file is not None:
+        b = vector_run.Build(SIM, "", bench.folder, [*bench.command, f"+MUTANT={mutant}"], 0.0,
+                             True, True, "")  # fmt: skip
+        return vector_run.run(b, check.vector_file, check.cycles, timeout=600).passed
+    n_pixels = check.n_pixels or check.expect.read_text().count("\n")
+    out_file = work / f"pixels_{mutant}.hex"
+    args = [
+        f"+SPAN_FILE={check.spans}", f"+EXPECT_FILE={check.expect}", f"+OUT_FILE={out_file}",
+        f"+SPANS={check.n_spans}", f"+PIXELS={n_pixels}", f"+IDLE_PCT={check.idle_pct}",
+        f"+STALL_PCT={check.stall_pct}", f"+SEED={check.seed}",
+        f"+MAX_CYCLES={40 * n_pixels + 10000}", f"+MUTANT={mutant}",
+    ]  # fmt: skip
+    try:
+        ran = subprocess.run([*bench.command, *args], capture_output=True, text=True,
+                             cwd=bench.folder, timeout=600)  # fmt: skip
+    except subprocess.TimeoutExpired:
+        return False
+    finally:
+        out_file.unlink(missing_ok=True)
+    done = core_run.DONE.search(ran.stdout)
+    return ran.returncode == 0 and done is not None and int(done.group(7)) == 0
+
+
+# ---------------------------------------------------------------- the bench's wrapper
+def parameter_names(abstract_il: str, top: str) -> list[str]:
+    """The parameters of ``top`` as ``read_verilog -defer`` lists them (``write_rtlil``)."""
+    body = abstract_il.split(f"module $abstract\\{top}\n", 1)[1].split("\nend\n", 1)[0]
+    return re.findall(r"^\s*parameter \\(\w+)", body, re.M)
+
+
+def ports(netlist_text: str, module: str) -> list[tuple[str, str]]:
+    """(direction, declaration) of each port of ``module`` in a ``write_verilog`` netlist."""
+    body = netlist_text.split(f"module {module}(", 1)[1].split("endmodule", 1)[0]
+    found = re.findall(r"^\s*(input|output)\s+((?:\[\d+:\d+\]\s*)?\w+);", body, re.M)
+    return [(d, decl) for d, decl in found]
+
+
+def wrapper(top: str, params: list[str], port_list: list[tuple[str, str]], width: int) -> str:
+    """A module ``top`` with the top's parameters and ports around ``<top>_mutants``, its
+    ``mutsel`` from ``+MUTANT=<id>`` (0 without it)."""
+    names = [decl.split()[-1] for _, decl in port_list if decl.split()[-1] != CTRL]
+    lines = [
+        "// Generated by sim/mutation.py: the top's parameters (unused: the netlist below is",
+        "// built for the design's vector set) and ports around the netlist with every mutation,",
+        f"// {CTRL} from +MUTANT=<id> (0: the original design).",
+        f"module {top} #(",
+        ",\n".join(f"    parameter {p} = 0" for p in params),
+        f") ({', '.join(names)});",
+    ]
+    lines += [f"    {d} {decl};" for d, decl in port_list if decl.split()[-1] != CTRL]
+    lines += [
+        f"    reg [{width - 1}:0] {CTRL};",
+        "    initial begin",
+        f'        if (!$value$plusargs("MUTANT=%d", {CTRL})) {CTRL} = {width}\'d0;',
+        "    end",
+        f"    {top}_mutants mutants (",
+        ",\n".join(f"        .{n}({n})" for n in [*names, CTRL]),
+        "    );",
+        "endmodule",
+        "",
+    ]
+    return "\n".join(lines)

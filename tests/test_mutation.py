@@ -1,0 +1,81 @@
+# SPDX-License-Identifier: Apache-2.0
+"""make mutants (sim/mutation.py): Yosys ``mutate`` lists of every design, each mutant through
+the committed vector sets and the stronger checks, survivors proven equivalent or counted.
+
+Quick tier: a fixed sample of each design's list (``SAMPLE`` mutants spread evenly over the
+ones the record says are killed) through the same netlist and bench: mutant 0, the original,
+passes every check (``run_design`` stops otherwise), every sampled mutant is killed, by the
+check the record names, and the list Yosys makes now is the one the record was made from.  The
+docs' table is the record's.  Slow tier: every mutant of every list through the checks, the
+same kills as the record and the rest the record's proven equivalent mutants and survivors.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from sim import mutation, mutation_report
+from sim.runner import SIM_BUILD
+
+ROOT = Path(__file__).resolve().parent.parent
+DOC = ROOT / "docs" / "verification.md"
+SAMPLE = 12
+# builds kept between runs (the netlists are the same while the RTL is: a cache hit)
+BUILD = SIM_BUILD / "mutants"
+
+
+def _record() -> dict:
+    return json.loads(mutation.RECORD.read_text())
+
+
+@pytest.mark.parametrize("design", list(mutation.DESIGNS))
+def test_sampled_mutants_are_killed(design: str) -> None:
+    rec = _record()["designs"][design]
+    ids = mutation.quick_sample(rec, SAMPLE)
+    assert len(ids) == SAMPLE
+    report = mutation.run_design(mutation.DESIGNS[design], ids, jobs=2, out=BUILD, prove=False)
+    assert report.list_digest == rec["list_digest"], (
+        f"the mutation list of {design} changed since docs/mutants.json: make mutants"
+    )
+    got = {o.id: o.killed_by for o in report.outcomes}
+    assert all(got.values()), f"sampled mutants not killed: {[i for i, k in got.items() if not k]}"
+    assert got == {i: rec["killed_by"][str(i)] for i in ids}
+
+
+def test_the_record_is_current() -> None:
+    """docs/mutants.json was made from the sources, ROM images and parameters there are now
+    (remake it: make mutants)."""
+    rec = _record()
+    assert rec["seed"] == mutation.SEED and rec["list_size"] == mutation.LIST_SIZE
+    assert set(rec["designs"]) == set(mutation.DESIGNS)
+    stale = [
+        name
+        for name, design in mutation.DESIGNS.items()
+        if rec["designs"][name]["inputs_digest"] != mutation.inputs_digest(design)
+    ]
+    assert not stale, f"docs/mutants.json is stale for {stale}: make mutants"
+
+
+def test_the_docs_table_is_the_record_s() -> None:
+    """docs/verification.md carries the table sim/mutation.py prints for the record, and its
+    list of the equivalent mutants and survivors."""
+    text = DOC.read_text()
+    assert mutation_report.table(_record()) in text
+    assert mutation_report.listing(_record()) in text
+
+
+def test_the_whole_lists_give_the_record_s_figures() -> None:
+    """Every mutant of every list through the checks (make mutants without the proofs, which
+    the record holds): each killed by the check the record names, the rest exactly the
+    record's proven equivalent mutants and survivors."""
+    rec = _record()["designs"]
+    for name, design in mutation.DESIGNS.items():
+        report = mutation.run_design(design, None, jobs=2, out=BUILD, prove=False)
+        assert report.killed == rec[name]["killed"], name
+        got = {str(o.id): o.killed_by for o in report.outcomes if o.killed_by}
+        assert got == rec[name]["killed_by"], name
+        alive = sorted(o.id for o in report.outcomes if not o.killed_by)
+        assert alive == sorted(o["id"] for o in rec[name]["equivalent"] + rec[name]["survivors"])
