@@ -3,7 +3,8 @@
 the committed vector sets and the stronger checks, survivors proven equivalent or counted.
 
 Quick tier: a fixed sample of each design's list (``SAMPLE`` mutants spread evenly over the
-ones the record says are killed) through the same netlist and bench: mutant 0, the original,
+ones the record says are killed; the specular unit's and the core's in the slow tier, whose
+netlists take minutes to build) through the same netlist and bench: mutant 0, the original,
 passes every check (``run_design`` stops otherwise), every sampled mutant is killed, by the
 check the record names, and the list Yosys makes now is the one the record was made from.  The
 docs' table is the record's.  Slow tier: every mutant of every list through the checks, the
