@@ -48,6 +48,7 @@ EXERCISED: dict[str, tuple[str, ...]] = {
     ),
     "make gate": ("tests/test_gate.py::test_netlist_replays_its_vector_set",),
     "make coverage": ("tests/test_coverage.py::test_the_docs_figures_are_the_script_s",),
+    "make mutants": ("tests/test_mutation.py::test_sampled_mutants_are_killed",),
     "make pictures": (
         "tests/test_pictures.py::test_every_picture_the_docs_show_exists_and_is_recorded",
     ),
