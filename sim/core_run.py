@@ -13,13 +13,14 @@ import re
 import shutil
 import subprocess
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from model.hw.sources import source_list
 from model.hw.synth import synth_parameters
 from model.render import core
 from model.render.pipeline import PipelineConfig
+from model.units import divider, gouraud, specular
 from sim import vector_run
 from sim.runner import SIM_BUILD
 
@@ -250,6 +251,27 @@ def cosimulate(
     rtl_rgb = shade.shade(frame_raster, replay).rgb
     model_rgb = shade.shade(frame_raster, pipeline.unit_shader(cfg)).rgb
     return FrameResult(rtl_rgb, model_rgb, result, core.core_cycles(stream.total_pixels))
+
+
+def shipped_configs() -> dict[str, PipelineConfig]:
+    """The core configurations users ship besides the default, which the stream bench runs
+    (tests/test_core.py) and make coverage measures: narrow widths (4-bit Gouraud levels and
+    4-bit highlights, the sum's width at its smallest), the kept range of n (N_FIRST > 1, as
+    shading fit emits; no diffuse path) and the UP5K tables."""
+    return {
+        "narrow": PipelineConfig(
+            divider=divider.DividerConfig(a_width=9, k_width=7, recip_bits=8),
+            gouraud=gouraud.GouraudConfig(i_int=4, i_frac=4, p=2, len_width=7),
+            specular=replace(specular.NARROW, out_width=4),
+            diffuse_mode="unit",
+        ),
+        "kept": PipelineConfig(
+            divider=divider.DividerConfig(a_width=13, k_width=7, recip_bits=8),
+            gouraud=gouraud.GouraudConfig(i_int=8, i_frac=4, p=2, len_width=7),
+            specular=specular.KEPT,
+        ),
+        "up5k": PipelineConfig(specular=specular.UP5K, diffuse_mode="unit"),
+    }
 
 
 VECTOR_SET = vector_run.VECTOR_DIR / "core_default"

@@ -16,7 +16,7 @@ import subprocess
 import threading
 from collections import defaultdict
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -86,24 +86,6 @@ class CoreReplay:
     stall_pct: int = 0
 
 
-def _core_configs() -> dict[str, PipelineConfig]:
-    """The configurations tests/test_core.py runs through the stream bench."""
-    return {
-        "narrow": PipelineConfig(
-            divider=divider.DividerConfig(a_width=9, k_width=7, recip_bits=8),
-            gouraud=gouraud.GouraudConfig(i_int=4, i_frac=4, p=2, len_width=7),
-            specular=replace(specular.NARROW, out_width=4),
-            diffuse_mode="unit",
-        ),
-        "kept": PipelineConfig(
-            divider=divider.DividerConfig(a_width=13, k_width=7, recip_bits=8),
-            gouraud=gouraud.GouraudConfig(i_int=8, i_frac=4, p=2, len_width=7),
-            specular=specular.KEPT,
-        ),
-        "up5k": PipelineConfig(specular=specular.UP5K, diffuse_mode="unit"),
-    }
-
-
 def plan(unit: str) -> list[Replay | CoreReplay]:
     """Every run of ``unit``: its committed vector sets, then the soaks tests/test_soak.py
     runs (the default configuration deep, the others 20k cycles)."""
@@ -112,7 +94,10 @@ def plan(unit: str) -> list[Replay | CoreReplay]:
             CoreReplay("core_default", "default", METHODS["diffuse"]),
             CoreReplay("core_default_soak", "default", METHODS["diffuse"], 3000, 20, 30),
         ]
-        out += [CoreReplay(f"core_{k}", k, c, 1000, 20, 30) for k, c in _core_configs().items()]
+        out += [
+            CoreReplay(f"core_{k}", k, c, 1000, 20, 30)
+            for k, c in core_run.shipped_configs().items()
+        ]
         return out
     sets = [Replay(n, n.split("_", 1)[1], cfg) for n, (cfg, _) in vector_sets.SETS.items()]
     soaks = {

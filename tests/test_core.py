@@ -424,25 +424,7 @@ def test_the_configurations_users_ship_through_the_core(name):
     """Narrow widths (4-bit Gouraud levels and 4-bit highlights: the sum's width at its
     smallest), the kept range of n (N_FIRST > 1, as shading fit emits; no diffuse path) and
     the UP5K tables: random span beats, idles and stalls, every pixel compared."""
-    from dataclasses import replace
-
-    from model.units import divider
-
-    g = gouraud.GouraudConfig(i_int=4, i_frac=4, p=2, len_width=7)
-    cfg = {
-        "narrow": PipelineConfig(
-            divider=divider.DividerConfig(a_width=9, k_width=7, recip_bits=8),
-            gouraud=g,
-            specular=replace(specular.NARROW, out_width=4),
-            diffuse_mode="unit",
-        ),
-        "kept": PipelineConfig(
-            divider=divider.DividerConfig(a_width=13, k_width=7, recip_bits=8),
-            gouraud=gouraud.GouraudConfig(i_int=8, i_frac=4, p=2, len_width=7),
-            specular=specular.KEPT,
-        ),
-        "up5k": PipelineConfig(specular=specular.UP5K, diffuse_mode="unit"),
-    }[name]
+    cfg = core_run.shipped_configs()[name]
     fmt = core.SpanFormat(cfg)
     words = random_words(fmt, 120, seed=9)
     params = core_run.parameters(cfg, core_run.SIM_BUILD / f"core_{name}_roms")
