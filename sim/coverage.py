@@ -174,6 +174,30 @@ def report(
     return results, found
 
 
+def docs_table(path: Path) -> str:
+    """The coverage table of ``path`` (docs/verification.md, section "Coverage"), as ``table``
+    prints it."""
+    text = path.read_text()
+    section = text[text.index("## Coverage") :]
+    rows = [line for line in section.splitlines() if line.startswith("|")]
+    head = next(i for i, line in enumerate(rows) if line.startswith("| unit | lines covered"))
+    out = [rows[head], rows[head + 1]]
+    for line in rows[head + 2 :]:
+        if not line.startswith("| `"):
+            break
+        out.append(line)
+    return "\n".join(out) + "\n"
+
+
+def docs_problems(printed: str, path: Path) -> list[str]:
+    """[] if the table of ``path`` is ``printed``; else one line saying what differs."""
+    documented = docs_table(path)
+    if documented == printed:
+        return []
+    differ = [d for d in documented.splitlines() if d not in printed.splitlines()]
+    return [f"{path}: its coverage table is not this run's (rows that differ: {differ})"]
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m sim.coverage", description=__doc__)
     parser.add_argument("--units", nargs="+", choices=UNITS, default=list(UNITS))
@@ -181,6 +205,11 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--waivers", type=Path, default=WAIVERS)
     parser.add_argument("--runs", nargs="+", help="only the runs of these names (e.g. divider_n4)")
     parser.add_argument("--jobs", type=int, default=2, help="builds and runs at a time")
+    parser.add_argument(
+        "--docs",
+        type=Path,
+        help="a page whose coverage table must be this run's (a run of every unit and run)",
+    )
     args = parser.parse_args(argv)
     t0 = time.monotonic()
     results, found = report(
@@ -192,6 +221,8 @@ def main(argv: list[str] | None = None) -> int:
             print(f"  {line}")
     print(table(results), end="")
     print(f"gaps: {args.out}/<unit>/gaps.md, annotated sources: {args.out}/<unit>/annotated/")
+    if args.docs and args.units == list(UNITS) and not args.runs:
+        found = [*found, *docs_problems(table(results), args.docs)]
     for line in found:
         print(line)
     print(f"coverage: {len(found)} problems, {time.monotonic() - t0:.0f} s")

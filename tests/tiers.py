@@ -165,12 +165,7 @@ SLOW: dict[str, str] = {
     "tests/test_rtl_params.py::test_rtl_refuses_exactly_what_the_model_refuses[gouraud_segment]": (
         "every refused Gouraud parameter under three tools; quick: the divider's"
     ),
-    # -- coverage (make coverage): the whole run and an exhaustive bound its waivers cite
-    "tests/test_coverage.py::test_the_docs_figures_are_the_script_s": (
-        "every unit's and the core's coverage runs (about 100 s with the builds cached, 13 "
-        "minutes without); quick: one unit on one vector set, test_an_unexplained_gap_"
-        "and_a_stale_waiver_fail_the_run_by_name"
-    ),
+    # -- coverage: an exhaustive bound its waivers cite (the whole run is make coverage's)
     "tests/test_coverage.py::test_the_core_s_gouraud_accumulator_bound_holds_for_every_span": (
         "every length and every difference of the default divider (4 billion cases, 27 s); "
         "quick: test_waivers_file_is_well_formed"
