@@ -419,7 +419,7 @@ def test_the_data_sheet_s_resources_are_the_synthesis_record():
     assert rows[1:] == want
 
 
-@pytest.mark.parametrize("name", ["narrow", "kept", "up5k"])
+@pytest.mark.parametrize("name", sorted(core_run.shipped_configs()))
 def test_the_configurations_users_ship_through_the_core(name):
     """Narrow widths (4-bit Gouraud levels and 4-bit highlights: the sum's width at its
     smallest), the kept range of n (N_FIRST > 1, as shading fit emits; no diffuse path) and
