@@ -289,7 +289,8 @@ def _tau(w: int, r: int, fr: int, d: int, p: int) -> tuple[int, int]:
 def _cubic_value(w: int, tau: int, coef, fa, d: int, p: int, o: int) -> int:
     """c (p0 + tau (b1 + b2 tau)), Horner, each product rounded to P fraction bits; tau
     saturated to [-16, 16) (``TAU_INT_BITS``); P clipped at 0, the output rounded to O bits."""
-    t = fixed.saturate(tau, -(1 << (p + 4)), (1 << (p + 4)) - 1)
+    bound = 1 << (p + TAU_INT_BITS - 1)
+    t = fixed.saturate(tau, -bound, bound - 1)
     h = fixed.round_shift(coef[3] * t, fa[3]) + fixed.round_shift(coef[2], fa[2] - p)
     poly = fixed.round_shift(t * h, p) + fixed.round_shift(coef[1], fa[1] - p)
     return _output(((1 << d) - w) * max(0, poly), d + p - o, o)
@@ -309,7 +310,8 @@ def cubic_kernel(z, table, coef, fa, shift, a_bits, d, p, o, out) -> None:
 def piecewise_kernel(z, table, coef, fa, shift, a_bits, d, p, o, out) -> None:
     """The cubic where tau > 0 (c > s, cos^n > 0.5: the whole epicentre), else the bloom part
     c / (s2 + beta (r w - 1)): the denominator's product rounded to P bits, the quotient
-    rounded to O bits (round half up: (2 num + den) // (2 den)), a divider's result."""
+    rounded to O bits (round half up: (2 num + den) // (2 den), exact: the numerator or the
+    denominator is shifted to align them, never truncated), a divider's result."""
     for i in range(z.size):
         w = _w(z[i], table, shift, a_bits, d)
         rw, tau = _tau(w, coef[0], fa[0], d, p)
@@ -318,7 +320,11 @@ def piecewise_kernel(z, table, coef, fa, shift, a_bits, d, p, o, out) -> None:
             continue
         den = fixed.round_shift(coef[4], fa[4] - p)
         den += fixed.round_shift(coef[5] * (rw - (1 << p)), fa[5])
-        num = ((1 << d) - w) << (p + o - d) if p + o >= d else ((1 << d) - w) >> (d - p - o)
+        num = (1 << d) - w  # c, D fraction bits: c / den has D - P, the result O
+        if p + o >= d:
+            num <<= p + o - d
+        else:
+            den <<= d - p - o
         q = (2 * num + den) // (2 * den)
         out[i] = fixed.saturate(q, 0, (1 << o) - 1)
 
@@ -330,7 +336,7 @@ def log2_kernel(z, table, logt, n, shift, a_bits, d, e_bits, l_bits, o, out) -> 
     2^e (1 + f): f rounded to E bits addresses the log2 table (the same log2 device, fig. 9b),
     log2 u = e + table (L fraction bits; an address rounded up to 2**E is the next octave);
     1 - log2(u) / 2 rounded to O bits."""
-    uf = d - 2  # fraction bits of x and u
+    uf = d - LOG2COS_INT_BITS  # fraction bits of the table word, x and u
     for i in range(z.size):
         addr = _address(z[i], shift, a_bits)
         word = (1 << d) - 1 if addr >= (1 << a_bits) else table[addr]
