@@ -72,7 +72,8 @@ class FixedAccuracy:
     float_rel: np.ndarray  # the float form against cos^n: max_rel_error (exact)
 
     def worst(self, name: str, lo: int = 1, hi: int = N_MAX) -> tuple[float, int, int]:
-        """(the largest value of field ``name`` over n = lo..hi, its n, its z)."""
+        """(the largest value of field ``name`` over n = lo..hi, its n, its z: -1 for
+        ``float_rel``, an exact maximum over the real angles)."""
         values = getattr(self, name)[lo - 1 : hi]
         j = int(np.argmax(values))
         zs = {"abs_lsb": self.abs_z, "rel": self.rel_z, "rel_cos": self.rel_cos_z}.get(name)
