@@ -103,6 +103,11 @@ roms: setup
 accuracy: setup
 	$(PY) -m model accuracy
 
+# The thesis's BRDF family in fixed point: each form's exhaustive worst error, and the search
+# for the most accurate unit for n >= 8 at the patent's table bits (docs/brdf.md, about 2 min).
+brdf-budget: setup
+	$(PY) scripts/brdf_budget.py
+
 # Pixels per second of the bit-exact pipeline against the float references (one run, ratios),
 # the seconds a 70k-triangle mesh file takes to load in each format (target: under 2 s), then the
 # RTL scene co-simulation (sphere 64 x 64 through the three units under Icarus).
@@ -152,7 +157,7 @@ formal: setup
 # Take-away vector sets (docs/fpga.md, "Vector benches"): stimulus and the model's responses of
 # every unit, written into sim/vectors/<set>/ (committed; run again after a model change), and
 # their replay through the plain Verilog benches under Icarus and Verilator (no Python).
-.PHONY: vectors vectors-sim gate coverage mutants
+.PHONY: vectors vectors-sim gate coverage mutants brdf-budget
 vectors: setup
 	$(PY) -m sim.vector_sets
 	$(PY) -m sim.core_run

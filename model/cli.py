@@ -35,6 +35,7 @@ def accuracy_report() -> str:
     """``make accuracy``: the figures table, then the tables the README carries (the model's
     ``accuracy.figures`` computes everything; this only prints)."""
     from model.study import accuracy
+    from model.units.brdf import claims as brdf_claims
 
     began = time.perf_counter()
     figs = accuracy.figures()
@@ -43,6 +44,8 @@ def accuracy_report() -> str:
         accuracy.format_figures(figs),
         "== Specular: the float approximation (exact maxima per n) ==",
         specular.format_brdf_table(),
+        "== The thesis's BRDF family: exact worst epicentre errors beside its claims ==",
+        brdf_claims.format_claims_table(),
         "== Specular: the fixed-point unit, default configuration ==",
         specular.format_accuracy_table(specular.DEFAULT, figs.specular["default"]),
         "== Specular: the fixed-point unit, UP5K configuration (fits an iCE40 UP5K) ==",

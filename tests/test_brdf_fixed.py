@@ -237,7 +237,6 @@ def test_the_fixed_point_sections_figures_are_the_scripts() -> None:
     assert _figures(section) <= _figures(brdf.format_fixed_table())
 
 
-@pytest.mark.slow
 def test_the_page_shows_the_budget_table_the_search_prints(tmp_path: Path) -> None:
     table = brdf.format_budget_table()
     section = _section("Beyond")
@@ -249,7 +248,6 @@ def test_the_page_shows_the_budget_table_the_search_prints(tmp_path: Path) -> No
     assert brdf.best_k_ranges(4, "inflection", 12, budget.SMALL_N_TABLES, True) == WINNER_RANGES
 
 
-@pytest.mark.slow
 def test_the_script_prints_both_tables_and_writes_json(capsys, tmp_path: Path) -> None:
     import importlib.util
     import json

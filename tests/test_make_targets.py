@@ -31,6 +31,9 @@ EXERCISED: dict[str, tuple[str, ...]] = {
         "tests/test_specular.py::test_committed_rom_equals_fresh_generation",
     ),
     "make accuracy": ("tests/test_accuracy.py::test_docs_carry_what_the_command_prints",),
+    "make brdf-budget": (
+        "tests/test_brdf_fixed.py::test_the_script_prints_both_tables_and_writes_json",
+    ),
     "python -m sim bench": (
         "tests/test_fit.py::test_the_fit_proves_the_core_through_the_bench_command",
         "tests/test_sim_scene.py::test_rtl_scene_equals_model_scene_byte_for_byte",

@@ -133,10 +133,20 @@ SLOW: dict[str, str] = {
         "at a time on 2 cores); quick: the same soaks at 150k (divider) and 350k cycles "
         "(Gouraud, specular)"
     ),
+    # -- the BRDF family's budget search (make brdf-budget)
+    "tests/test_brdf_fixed.py::test_the_page_shows_the_budget_table_the_search_prints": (
+        "the whole budget search (about 2 min); quick: "
+        "test_the_winner_the_page_names_fits_the_budget_and_its_figures_hold"
+    ),
+    "tests/test_brdf_fixed.py::test_the_script_prints_both_tables_and_writes_json": (
+        "runs the same search through the script; quick: "
+        "test_the_page_shows_the_fixed_table_the_code_computes"
+    ),
     # -- mutation testing (make mutants): the whole lists; the quick tier runs a sample
-    "tests/test_mutation.py::test_the_whole_lists_give_the_record_s_figures": (
-        "1200 mutants through their checks (about 10 minutes here under load); quick: "
-        "test_sampled_mutants_are_killed, 12 a design"
+    "tests/test_mutation.py::test_the_whole_list_gives_the_record_s_figures": (
+        "300 mutants a design through their checks (a design a test, so the workers share them; "
+        "the core's build and runs take minutes); quick: test_sampled_mutants_are_killed, 12 a "
+        "design"
     ),
     "tests/test_mutation.py::test_sampled_mutants_are_killed[specular_unit]": (
         "a fresh Verilator build of the netlist with its tables (35 s, minutes under load); "
