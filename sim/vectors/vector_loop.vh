@@ -15,10 +15,14 @@
 // defines the data outputs as 0 where RESET_ALL = 0 leaves them undefined), each big-endian
 // and right-aligned (the $fread order); the bits that pad a word to whole bytes are 0.  Mask
 // bit 1: compare that output bit; 0: the output is undefined there.  Each cycle i puts the
-// stimulus of record i on the inputs, gives a rising clock edge 5 ns later and compares 5 ns
-// after it, just before the clock falls, in every instance, every output bit whose mask bit
-// is 1 with that instance's expected word: every output, in every cycle it is defined.  X or
-// Z where a value is due is a mismatch.
+// stimulus of record i on the inputs, gives a rising clock edge 5 ns later, lets the clock
+// fall 4 ns after that and compares 1 ns later, in every instance, every output bit whose mask
+// bit is 1 with that instance's expected word: every output, in every cycle it is defined.  X
+// or Z where a value is due is a mismatch.  The next record then goes on the inputs.  The
+// falling edge comes before the compare and apart from any input change, so a flip-flop
+// clocked on the falling edge shows: it has taken record i's inputs half a cycle early (with
+// the inputs changing at the falling edge it would take record i + 1's, as the rising edge
+// does half a cycle later, and look the same at every compare).
 //
 // Plusargs override the parameters at run time, so one build replays any set of its
 // configuration: +VECTOR_FILE=<path>, +CYCLES=<n>; +OUT_FILE=<path> also writes the output
@@ -117,7 +121,8 @@ initial begin
         end
         stim_word = stim_rec[STIM_W-1:0];
         #5 clk = 1'b1;
-        #5;
+        #4 clk = 1'b0;
+        #1;
         for (inst = 0; inst < 2; inst = inst + 1) begin
             if (((RESET_MODES >> inst) & 1) == 1) begin
                 got_word = got_words[inst*OUT_W +: OUT_W];
@@ -135,7 +140,6 @@ initial begin
         if (out_fd != 0 && got_words[DUMP_INST*OUT_W + OUT_W - 2] === 1'b1) begin
             $fwrite(out_fd, "%h\n", got_words[DUMP_INST*OUT_W +: OUT_W]);
         end
-        clk = 1'b0;
     end
     if ($fgetc(fd) != -1) begin
         $display("FAIL %m: %0s has more than CYCLES = %0d records", vector_file, cycles);
