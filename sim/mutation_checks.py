@@ -17,6 +17,7 @@ from pathlib import Path
 from model.render import core
 from model.render.pipeline import METHODS
 from sim import core_run, soak_file, soak_predict, soak_stimulus, units, vector_run, vector_sets
+from sim.protocol import Expect, UnitSpec
 
 SIM = "verilator"
 # the netlist's mutation select input
@@ -30,14 +31,22 @@ UNIT_SOAKS: tuple[tuple[str, int, int], ...] = (
     ("soak seed 1, 100k cycles", 1, 100_000),
     ("soak seed 2, 100k cycles", 2, 100_000),
 )
+# After the directed run, for the few it leaves alive: a long soak (the golden model's soak path
+# writes millions of cycles a second, the replay runs as fast)
+LONG_SOAKS: tuple[tuple[str, int, int], ...] = (("soak seed 3, 4M cycles", 3, 4_000_000),)
 CORE_RUNS: tuple[tuple[str, str, int, int, int], ...] = (
     # the FuseSoC sim target's run of the committed set comes first (the design's vector set)
     ("core_default at full rate", "committed", 0, 0, 1),
     ("core_default, 50 % idles and stalls, seed 7", "committed", 50, 50, 7),
-    ("2000 random spans, 1 to 40 and 2047 pixels, 20 % idles, 30 % stalls", "random", 20, 30, 3),
 )
-CORE_RANDOM_SPANS = 2000
-CORE_RANDOM_SEED = 11
+# Random spans: (name, spans, longest random length, every how many the longest of all, the
+# spans' seed, idle %, stall %, the bench's seed)
+CORE_RANDOM_RUNS: tuple[tuple[str, int, int, int, int, int, int, int], ...] = (
+    ("2000 random spans, 1 to 40 and 2047 pixels, 20 % idles, 30 % stalls",
+     2000, 40, 400, 11, 20, 30, 3),
+    ("20000 random spans, 1 to 200 and 2047 pixels, 10 % idles, 10 % stalls",
+     20000, 200, 1000, 13, 10, 10, 5),
+)  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -46,7 +55,7 @@ class Check:
 
     name: str
     vector_file: Path | None = None  # units
-    cycles: int = 0
+    cycles: int = 0  # 0: as many as the vector file has records (``spec`` gives their size)
     spans: Path | None = None  # the core
     expect: Path | None = None
     n_spans: int = 0
@@ -56,6 +65,14 @@ class Check:
     seed: int = 1
     # writes the check's files (a soak, random spans) when a mutant first reaches the check
     writer: Callable[[], None] | None = field(default=None, compare=False, repr=False)
+    spec: UnitSpec | None = field(default=None, compare=False, repr=False)
+
+    def records(self) -> int:
+        """The cycles to replay: ``cycles``, or the vector file's records."""
+        if self.cycles or self.vector_file is None or self.spec is None:
+            return self.cycles
+        _, _, stim_bytes, pair_bytes = soak_file.record_layout(self.spec)
+        return self.vector_file.stat().st_size // (stim_bytes + 2 * pair_bytes)
 
 
 @dataclass(frozen=True)
@@ -72,6 +89,7 @@ def unit_checks(vector_set: str, folder: Path) -> list[Check]:
     use into ``folder``)."""
     set_dir = vector_run.VECTOR_DIR / vector_set
     _, params = vector_sets.set_parameters(set_dir)
+    spec = units.spec(vector_sets.SETS[vector_set][0])
     checks = [Check(vector_set, set_dir / "vectors.bin", int(params["CYCLES"]))]
     cfg = vector_sets.SETS[vector_set][0]
     for name, seed, cycles in UNIT_SOAKS:
@@ -92,11 +110,35 @@ def unit_checks(vector_set: str, folder: Path) -> list[Check]:
         soak_file.write_vector_file(cfg, stim, pred, directed_dir / "vectors.bin")
 
     checks.append(Check(DIRECTED, directed_dir / "vectors.bin", n_cycles, writer=write_directed))
+    bits_dir = folder / "checks" / "operand_bits"
+
+    def write_bits() -> None:
+        bits_dir.mkdir(parents=True, exist_ok=True)
+        stim = soak_stimulus.from_inputs(units.spec(cfg), operand_bit_inputs(cfg))
+        pred = soak_predict.predict(cfg, stim)
+        soak_file.write_vector_file(cfg, stim, pred, bits_dir / "vectors.bin")
+
+    # its length is known once written (the search decides it): the file's records
+    checks.append(Check(OPERAND_BITS, bits_dir / "vectors.bin", 0, writer=write_bits, spec=spec))
+    for name, seed, cycles in LONG_SOAKS:
+        soak_dir = folder / "checks" / f"soak_{seed}_{cycles}"
+
+        def write_long(soak_dir: Path = soak_dir, seed: int = seed, cycles: int = cycles) -> None:
+            soak_dir.mkdir(parents=True, exist_ok=True)
+            vector_sets.write_stimulus(cfg, cycles, seed, soak_dir)
+
+        checks.append(Check(name, soak_dir / "vectors.bin", cycles, writer=write_long))
     return checks
 
 
 DIRECTED = "directed: each operand at 0, 1, the powers of two and their neighbours, its ends"
 DIRECTED_SEED = 5
+OPERAND_BITS = (
+    "operand bits: for each bit of each operand, a job whose results that bit changes, and the "
+    "job with the bit flipped, each written two cycles before its start"
+)
+# Random jobs tried per operand bit before the bit is given up as one no result shows
+BIT_TRIES = 2500
 
 
 def corners(lo: int, hi: int, width: int) -> list[int]:
@@ -151,6 +193,70 @@ def directed_inputs(cfg: units.UnitConfig) -> list[dict[str, int]]:
     return rows
 
 
+def _job_results(expect: Expect, ops: dict[str, int]) -> list[dict[str, int]]:
+    return expect(ops).results
+
+
+def _wait_cycles(cfg: units.UnitConfig, ops: dict[str, int]) -> int:
+    """Cycles from a job's start to its last result, with room to spare."""
+    return units.expect(cfg)(ops).busy_cycles + 4
+
+
+def operand_bit_jobs(
+    cfg: units.UnitConfig,
+) -> list[tuple[str, int, dict[str, int], dict[str, int]]]:
+    """For each bit b of each operand: (operand, b, a job, the job with bit b of that operand
+    flipped), the job found at random (the golden model judges ``BIT_TRIES`` of them at most,
+    lines of any length) such that the two give different results; a bit no tried job shows
+    (a z0 bit below what the angle's rounding keeps, a flip that leaves the operand's range)
+    has none."""
+    spec = units.spec(cfg)
+    ops = spec.operands
+    expect = units.expect(cfg)
+    rng = random.Random(DIRECTED_SEED + 1)
+    ranges = {p.name: soak_stimulus.port_range(p) for p in ops}
+    found = []
+    for p in ops:
+        lo, hi = ranges[p.name]
+        for b in range(p.width):
+            for _ in range(BIT_TRIES):
+                job = {q.name: rng.randint(*ranges[q.name]) for q in ops}
+                flipped = (job[p.name] ^ (1 << b)) & ((1 << p.width) - 1)  # two's complement
+                if p.signed and flipped >= 1 << (p.width - 1):
+                    flipped -= 1 << p.width
+                if not lo <= flipped <= hi:
+                    continue
+                other = {**job, p.name: flipped}
+                if _job_results(expect, job) != _job_results(expect, other):
+                    found.append((p.name, b, job, other))
+                    break
+    return found
+
+
+def operand_bit_inputs(cfg: units.UnitConfig) -> list[dict[str, int]]:
+    """Reset, then the jobs of ``operand_bit_jobs``, each pair's two jobs one after the other,
+    so that each bit is 1 in one and 0 in the other.  Each job's operands are written, held
+    for two idle cycles (what the registers' hold paths keep is what the job uses) and
+    started; the next job waits for its results."""
+    ops = units.spec(cfg).operands
+
+    def row(values: dict[str, int], we: int, start: int, rst_n: int = 1) -> dict[str, int]:
+        out = {"rst_n": rst_n, "start": start}
+        for p in ops:
+            out[f"{p.name}_we"] = we
+            out[f"{p.name}_in"] = values[p.name]
+        return out
+
+    rows = [row({p.name: 0 for p in ops}, 0, 0, rst_n=0)] * 3
+    for _, _, job, other in operand_bit_jobs(cfg):
+        for values in (job, other):
+            rows.append(row(values, 1, 0))
+            rows += [row(values, 0, 0)] * 2
+            rows.append(row(values, 0, 1))
+            rows += [row(values, 0, 0)] * _wait_cycles(cfg, values)
+    return rows
+
+
 def core_checks(folder: Path) -> list[Check]:
     """The committed set as the FuseSoC sim target runs it, then the stronger runs."""
     committed = vector_run.VECTOR_DIR / "core_default"
@@ -158,38 +264,43 @@ def core_checks(folder: Path) -> list[Check]:
     n_spans = len(spans.read_text().split())
     n_pixels = pixels.read_text().count("\n")
     checks = [Check("core_default", None, 0, spans, pixels, n_spans, n_pixels, 20, 30, 1)]
-    rand_spans, rand_pixels = folder / "checks" / "spans.hex", folder / "checks" / "pixels.hex"
-
-    def write() -> None:
-        """Short spans of every length to 40 pixels and a few of the longest, every field
-        random, and the model's pixel beats (afresh each run: the model may change)."""
-        import numpy as np
-
-        fmt = core.SpanFormat(CORE_CONFIG)
-        rng = np.random.default_rng(CORE_RANDOM_SEED)
-        lengths = rng.integers(1, 41, CORE_RANDOM_SPANS)
-        lengths[::400] = CORE_CONFIG.gouraud.len_max
-        words = core_run.random_spans(fmt, lengths, CORE_RANDOM_SEED)
-        pix = core.PixelFormat(fmt.x_width, fmt.y_width)
-        digits, pdigits = -(-fmt.width // 4), -(-pix.width // 4)
-        rand_spans.parent.mkdir(parents=True, exist_ok=True)
-        rand_spans.write_text("".join(f"{w:0{digits}x}\n" for w in words))
-        beats = core.core_pixels(words, fmt)
-        rand_pixels.write_text(
-            "".join(
-                f"{core.pixel_word(p, pix):0{pdigits}x} {p['last']:x} {p['n_err']:x}\n"
-                for p in beats
-            )
-        )
-
     for name, which, idle, stall, seed in CORE_RUNS:
         if which == "committed":
             checks.append(Check(name, None, 0, spans, pixels, n_spans, n_pixels, idle, stall, seed))
-        else:
-            checks.append(
-                Check(name, None, 0, rand_spans, rand_pixels, CORE_RANDOM_SPANS, 0, idle,
-                      stall, seed, writer=write)
-            )  # fmt: skip
+    for name, count, longest, every, span_seed, idle, stall, seed in CORE_RANDOM_RUNS:
+        rand_spans = folder / "checks" / f"spans_{span_seed}.hex"
+        rand_pixels = folder / "checks" / f"pixels_{span_seed}.hex"
+
+        def write(
+            rand_spans: Path = rand_spans, rand_pixels: Path = rand_pixels, count: int = count,
+            longest: int = longest, every: int = every, span_seed: int = span_seed,
+        ) -> None:  # fmt: skip
+            """``count`` spans of every length to ``longest`` pixels and every ``every``-th
+            of the longest, every field random, and the model's pixel beats (afresh each
+            run: the model may change)."""
+            import numpy as np
+
+            fmt = core.SpanFormat(CORE_CONFIG)
+            rng = np.random.default_rng(span_seed)
+            lengths = rng.integers(1, longest + 1, count)
+            lengths[::every] = CORE_CONFIG.gouraud.len_max
+            words = core_run.random_spans(fmt, lengths, span_seed)
+            pix = core.PixelFormat(fmt.x_width, fmt.y_width)
+            digits, pdigits = -(-fmt.width // 4), -(-pix.width // 4)
+            rand_spans.parent.mkdir(parents=True, exist_ok=True)
+            rand_spans.write_text("".join(f"{w:0{digits}x}\n" for w in words))
+            beats = core.core_pixels(words, fmt)
+            rand_pixels.write_text(
+                "".join(
+                    f"{core.pixel_word(p, pix):0{pdigits}x} {p['last']:x} {p['n_err']:x}\n"
+                    for p in beats
+                )
+            )
+
+        checks.append(
+            Check(name, None, 0, rand_spans, rand_pixels, count, 0, idle, stall, seed,
+                  writer=write)
+        )  # fmt: skip
     return checks
 
 
@@ -198,7 +309,7 @@ def passes(bench: Bench, check: Check, mutant: int, work: Path) -> bool:
     if check.vector_file is not None:
         b = vector_run.Build(SIM, "", bench.folder, [*bench.command, f"+MUTANT={mutant}"], 0.0,
                              True, True, "")  # fmt: skip
-        return vector_run.run(b, check.vector_file, check.cycles, timeout=600).passed
+        return vector_run.run(b, check.vector_file, check.records(), timeout=600).passed
     n_pixels = check.n_pixels or check.expect.read_text().count("\n")
     out_file = work / f"pixels_{mutant}.hex"
     args = [

@@ -2,11 +2,19 @@
 """The formal equivalence checks of ``make mutants`` (sim/mutation.py): a mutant that every
 check passes, against the original design, in Yosys.
 
-The ROM tables are cut out of both designs (``cut_roms``); ``equiv_make -make_assert`` asserts
-every matched named wire equal and ``sat -tempinduct`` proves the asserts: the base case from
-the same all-zero state with rst_n low in the first cycle, the induction step from any state,
-up to a few cycles long (``equivalence``).  A verdict is kept per folder for the same netlists
-and script.
+The ROM tables are cut out of both designs (``cut_roms``).  Two kinds of proof
+(``equivalence``):
+
+* Yosys's equivalence flow, ``equiv_make`` (a ``$equiv`` cell per bit of every named wire the
+  two designs share) and ``equiv_simple -seq N`` (each cell proven from its own logic cone, N
+  cycles back, with the cells at the cone's edge taken as holding), the wires whose cells it
+  cannot prove unmatched and the flow run again until every cell is proven or an output's
+  cell is not (``_prove_local``): equal from any state the two designs share.
+* ``equiv_make -make_assert`` (an assert per matched named wire) and ``sat -tempinduct``: the
+  base case from the same all-zero state with rst_n low in the first cycle, the induction step
+  from any state, up to a few cycles long (``_prove``).
+
+A verdict is kept per folder for the same netlists and script.
 """
 
 from __future__ import annotations
@@ -134,6 +142,25 @@ BUSY = "busy_reg"
 CLOCK_PORTS = ("CLK", "RD_CLK", "WR_CLK")
 
 
+def unread_clock(il: str, command: str) -> str | None:
+    """Why the clock the mutation ``command`` changes is never read, or None: a ROM's
+    (``$mem_v2``'s) read clock where every read port is asynchronous (``RD_CLK_ENABLE`` all 0:
+    Yosys's cell reads the port's clock only for a clocked port), its write clock where it has
+    no write port."""
+    port, cell = mutate_field(command, "port"), mutate_field(command, "cell")
+    found = re.search(rf"^\s*cell \$mem_v2 \\{re.escape(cell)}\n(.*?)^\s*end$", il, re.M | re.S)
+    if found is None:
+        return None
+    params = dict(re.findall(r"^\s*parameter \\(\w+) (\S+)$", found.group(1), re.M))
+    if port == "RD_CLK" and re.fullmatch(r"\d+'0+", params.get("RD_CLK_ENABLE", "")):
+        return (
+            "the ROM's read ports are asynchronous (RD_CLK_ENABLE = 0): the cell never reads RD_CLK"
+        )
+    if port == "WR_CLK" and params.get("WR_PORTS") == "0":
+        return "the memory has no write port: the cell never reads WR_CLK"
+    return None
+
+
 _verdict_lock = threading.Lock()
 
 
@@ -181,6 +208,64 @@ def _prove(folder: Path, top: str, blacklist: list[str], steps: int, timeout: fl
     return proven
 
 
+def _ports(il: str, top: str) -> set[str]:
+    """The port names of module ``top`` in the RTLIL ``il``."""
+    body = il.split(f"\nmodule \\{top}\n", 1)[1].split("\nend\n", 1)[0]
+    port = r"^\s*wire (?:width \d+ )?(?:input|output|inout) \d+ \\(\S+)$"
+    return set(re.findall(port, body, re.M))
+
+
+# Rounds of the local flow: each leaves the wires whose cells the last could not prove unmatched
+LOCAL_ROUNDS = 8
+
+
+def _prove_local(folder: Path, top: str, blacklist: list[str], steps: int, timeout: float) -> (
+    list[str] | None
+):  # fmt: skip
+    """Every cell of Yosys's equivalence flow proven between ``gold_cut.il`` and
+    ``gate_cut.il``, the wires of ``blacklist`` and those the flow finds unequal left unmatched:
+    ``equiv_make -blacklist``, ``equiv_simple -seq <steps>`` (each bit of each matched wire
+    proven from its logic cone, ``steps`` cycles back, the matched bits at the cone's edge taken
+    as equal), ``equiv_status``.  A wire with an unproven bit is left unmatched and the flow run
+    again (a bit below a rounding point differs, and so does the sum it feeds; the rounded
+    value does not), up to LOCAL_ROUNDS times; a port with an unproven bit ends it (not
+    proven).  What it proves: from any state the two designs share, every matched wire, and
+    so every output, is equal in every cycle (each cell by its cone; the cones' edges by
+    induction over cycles and over the logic's order).  The wires left unmatched, or None if
+    not proven."""
+    gold = (folder / "gold_cut.il").read_text()
+    ports = _ports(gold, top)
+    black = list(dict.fromkeys(w for w in blacklist if w))
+    for _ in range(LOCAL_ROUNDS):
+        (folder / "local_blacklist.txt").write_text("".join(f"{w}\n" for w in black))
+        script = (
+            f"read_rtlil gate_cut.il\nrename {top} gate\n"
+            f"read_rtlil gold_cut.il\nrename {top} gold\n"
+            "equiv_make -blacklist local_blacklist.txt gold gate equiv\nhierarchy -top equiv\n"
+            f"flatten\nopt_clean\nequiv_simple -seq {steps}\nequiv_status\n"
+        )
+        (folder / "local.ys").write_text(script)
+        try:
+            subprocess.run(
+                [yosys_exe(), "-q", "-l", "local.log", "-s", "local.ys"],
+                capture_output=True,
+                text=True,
+                cwd=folder,
+                timeout=timeout,
+            )
+        except subprocess.TimeoutExpired:
+            return None
+        log = (folder / "local.log").read_text()
+        if "Equivalence successfully proven!" in log:
+            return black
+        unproven = set(re.findall(r"Unproven \$equiv \S+: \\(\S+)_gold[ \n]", log))
+        unproven |= set(re.findall(r"Unproven \$equiv \S+: \\(\S+)_gold \[", log))
+        if not unproven or unproven & ports or unproven <= set(black):
+            return None
+        black += sorted(unproven - set(black))
+    return None
+
+
 def equivalence(
     folder: Path, top: str, design_il: Path, command: str, unit: bool, seq: int = 4,
     timeout: float = 90,
@@ -196,7 +281,9 @@ def equivalence(
     only while the unit is idle, which the next start loads again.  The method's text, or None
     if neither proves it."""
     if mutate_field(command, "port") in CLOCK_PORTS:
-        return None  # SAT steps every flip-flop on one clock: a clock mutation is out of its reach
+        # SAT steps every flip-flop on one clock: a clock mutation is out of its reach, unless
+        # the cell never reads that clock
+        return unread_clock(design_il.read_text(), command)
     folder.mkdir(parents=True, exist_ok=True)
     original = os.path.relpath(design_il, folder)  # the WebAssembly Yosys: relative paths
     run_yosys(
@@ -210,6 +297,10 @@ def equivalence(
     gold, gate = design_il.read_text(), (folder / "gate.il").read_text()
     (folder / "gold_cut.il").write_text(cut_roms(gold))
     (folder / "gate_cut.il").write_text(cut_roms(gate))
+    unmatched = _prove_local(folder, top, [mutate_field(command, "wire")], seq, timeout)
+    if unmatched is not None:
+        but = f" but {', '.join(unmatched)}" if unmatched else ""
+        return f"equiv_simple -seq {seq} from any shared state, every named wire matched{but}"
     if _prove(folder, top, [mutate_field(command, "wire")], seq, timeout):
         return f"sat -tempinduct (to {seq} cycles), every named wire but the mutated one matched"
     if not unit:

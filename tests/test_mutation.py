@@ -18,7 +18,7 @@ from pathlib import Path
 
 import pytest
 
-from sim import mutation, mutation_report
+from sim import mutation, mutation_checks, mutation_report, units, vector_sets
 from sim.runner import SIM_BUILD
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -68,15 +68,38 @@ def test_the_docs_table_is_the_record_s() -> None:
     assert mutation_report.listing(_record()) in text
 
 
-def test_the_whole_lists_give_the_record_s_figures() -> None:
-    """Every mutant of every list through the checks (make mutants without the proofs, which
-    the record holds): each killed by the check the record names, the rest exactly the
-    record's proven equivalent mutants and survivors."""
-    rec = _record()["designs"]
-    for name, design in mutation.DESIGNS.items():
-        report = mutation.run_design(design, None, jobs=2, out=BUILD, prove=False)
-        assert report.killed == rec[name]["killed"], name
-        got = {str(o.id): o.killed_by for o in report.outcomes if o.killed_by}
-        assert got == rec[name]["killed_by"], name
-        alive = sorted(o.id for o in report.outcomes if not o.killed_by)
-        assert alive == sorted(o["id"] for o in rec[name]["equivalent"] + rec[name]["survivors"])
+@pytest.mark.parametrize("name", list(mutation.DESIGNS))
+def test_the_whole_list_gives_the_record_s_figures(name: str) -> None:
+    """Every mutant of the design's list that the record does not prove equivalent through the
+    checks (make mutants without the proofs, which the record holds; a proven one cannot fail
+    a check, and running it through all of them, the 4M-cycle soak last, is most of the
+    time): each killed by the check the record names, the rest exactly the record's
+    survivors."""
+    rec = _record()["designs"][name]
+    proven = {o["id"] for o in rec["equivalent"]}
+    ids = [i for i in range(1, rec["mutants"] + 1) if i not in proven]
+    report = mutation.run_design(mutation.DESIGNS[name], ids, jobs=2, out=BUILD, prove=False)
+    got = {str(o.id): o.killed_by for o in report.outcomes if o.killed_by}
+    assert got == rec["killed_by"], name
+    alive = sorted(o.id for o in report.outcomes if not o.killed_by)
+    assert alive == sorted(o["id"] for o in rec["survivors"])
+
+
+def test_operand_bit_jobs_show_every_bit_of_the_divider_s_operands() -> None:
+    """The operand-bit check's jobs: each pair differs in one bit of one operand and the golden
+    model gives the two different results; the divider's a and k have a pair for every bit
+    (a wrong quotient shows each), so a register bit stuck or lost on its hold path shows."""
+    cfg = vector_sets.SETS["divider_default"][0]
+    expect = units.expect(cfg)
+    jobs = mutation_checks.operand_bit_jobs(cfg)
+    widths = {p.name: p.width for p in units.spec(cfg).operands}
+    assert sorted((name, b) for name, b, _, _ in jobs) == sorted(
+        (name, b) for name, w in widths.items() for b in range(w)
+    )
+    for name, b, job, other in jobs:
+        assert {k for k in job if job[k] != other[k]} == {name}
+        assert (job[name] - other[name]) % (1 << widths[name]) in (
+            1 << b,
+            (1 << widths[name]) - (1 << b),
+        )
+        assert expect(job).results != expect(other).results
