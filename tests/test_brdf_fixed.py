@@ -237,18 +237,9 @@ def test_the_fixed_point_sections_figures_are_the_scripts() -> None:
     assert _figures(section) <= _figures(brdf.format_fixed_table())
 
 
-def test_the_page_shows_the_budget_table_the_search_prints(tmp_path: Path) -> None:
-    table = brdf.format_budget_table()
-    section = _section("Beyond")
-    assert table in section, "docs/brdf.md: stale budget table (brdf_budget.py)"
-    assert _figures(section) <= _figures(table)  # the prose quotes the table only
-    best = brdf.winner()
-    assert best.fits and best.config.k_ranges == WINNER_RANGES
-    assert all(c.fits for c in brdf.candidates())
-    assert brdf.best_k_ranges(4, "inflection", 12, budget.SMALL_N_TABLES, True) == WINNER_RANGES
-
-
-def test_the_script_prints_both_tables_and_writes_json(capsys, tmp_path: Path) -> None:
+def test_the_page_shows_the_budget_table_the_search_prints(capsys, tmp_path: Path) -> None:
+    """The whole search, once (about 2 minutes): through the script, which prints both tables
+    and writes the JSON, then the page against what it printed."""
     import importlib.util
     import json
 
@@ -263,6 +254,14 @@ def test_the_script_prints_both_tables_and_writes_json(capsys, tmp_path: Path) -
     data = json.loads(path.read_text())
     assert data["budget_bits"] == budget.budget_bits()
     assert len(data["candidates"]) == len(brdf.candidates())
+    table = brdf.format_budget_table()
+    section = _section("Beyond")
+    assert table in section, "docs/brdf.md: stale budget table (brdf_budget.py)"
+    assert _figures(section) <= _figures(table)  # the prose quotes the table only
+    best = brdf.winner()
+    assert best.fits and best.config.k_ranges == WINNER_RANGES
+    assert all(c.fits for c in brdf.candidates())
+    assert brdf.best_k_ranges(4, "inflection", 12, budget.SMALL_N_TABLES, True) == WINNER_RANGES
 
 
 def test_the_angle_tables_step_is_what_costs_accuracy_at_large_n() -> None:

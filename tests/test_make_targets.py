@@ -32,7 +32,7 @@ EXERCISED: dict[str, tuple[str, ...]] = {
     ),
     "make accuracy": ("tests/test_accuracy.py::test_docs_carry_what_the_command_prints",),
     "make brdf-budget": (
-        "tests/test_brdf_fixed.py::test_the_script_prints_both_tables_and_writes_json",
+        "tests/test_brdf_fixed.py::test_the_page_shows_the_budget_table_the_search_prints",
     ),
     "python -m sim bench": (
         "tests/test_fit.py::test_the_fit_proves_the_core_through_the_bench_command",

@@ -135,12 +135,8 @@ SLOW: dict[str, str] = {
     ),
     # -- the BRDF family's budget search (make brdf-budget)
     "tests/test_brdf_fixed.py::test_the_page_shows_the_budget_table_the_search_prints": (
-        "the whole budget search (about 2 min); quick: "
+        "the whole budget search, through the script (about 2 min); quick: "
         "test_the_winner_the_page_names_fits_the_budget_and_its_figures_hold"
-    ),
-    "tests/test_brdf_fixed.py::test_the_script_prints_both_tables_and_writes_json": (
-        "runs the same search through the script; quick: "
-        "test_the_page_shows_the_fixed_table_the_code_computes"
     ),
     # -- mutation testing (make mutants): the whole lists; the quick tier runs a sample
     "tests/test_mutation.py::test_the_whole_list_gives_the_record_s_figures": (
