@@ -144,14 +144,6 @@ SLOW: dict[str, str] = {
         "the core's build and runs take minutes); quick: test_sampled_mutants_are_killed, 12 a "
         "design"
     ),
-    "tests/test_mutation.py::test_sampled_mutants_are_killed[specular_unit]": (
-        "a fresh Verilator build of the netlist with its tables (35 s, minutes under load); "
-        "quick: the divider's and the Gouraud unit's samples"
-    ),
-    "tests/test_mutation.py::test_sampled_mutants_are_killed[shading_core]": (
-        "a fresh Verilator build of the core's netlist (140 s under load); quick: the divider's "
-        "and the Gouraud unit's samples"
-    ),
     # -- second simulator runs of checks the quick tier makes under Icarus
     "tests/test_vectors.py::test_timed_replay_of_a_generated_stimulus[verilator]": (
         "a Verilator build of every unit (45 s); quick: the Icarus run"
