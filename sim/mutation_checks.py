@@ -17,7 +17,7 @@ from pathlib import Path
 from model.render import core
 from model.render.pipeline import METHODS
 from sim import core_run, soak_file, soak_predict, soak_stimulus, units, vector_run, vector_sets
-from sim.protocol import Expect, UnitSpec
+from sim.protocol import UnitSpec
 
 SIM = "verilator"
 # the netlist's mutation select input
@@ -84,51 +84,47 @@ class Bench:
     seconds: float
 
 
+def _soak_check(cfg: units.UnitConfig, name: str, seed: int, cycles: int, folder: Path) -> Check:
+    """A soak of ``cycles`` cycles with ``seed``, written afresh on first use (the generator
+    may change)."""
+    soak_dir = folder / "checks" / f"soak_{seed}_{cycles}"
+
+    def write() -> None:
+        soak_dir.mkdir(parents=True, exist_ok=True)
+        vector_sets.write_stimulus(cfg, cycles, seed, soak_dir)
+
+    return Check(name, soak_dir / "vectors.bin", cycles, writer=write)
+
+
+def _inputs_check(
+    cfg: units.UnitConfig, name: str, rows: Callable[[units.UnitConfig], list[dict[str, int]]],
+    folder: Path,
+) -> Check:  # fmt: skip
+    """The rows ``rows(cfg)`` gives, with the golden model's prediction, written on first use;
+    its length is known once written (the file's records)."""
+    out = folder / "checks" / name.split(":")[0].replace(" ", "_") / "vectors.bin"
+
+    def write() -> None:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        stim = soak_stimulus.from_inputs(units.spec(cfg), rows(cfg))
+        soak_file.write_vector_file(cfg, stim, soak_predict.predict(cfg, stim), out)
+
+    return Check(name, out, 0, writer=write, spec=units.spec(cfg))
+
+
 def unit_checks(vector_set: str, folder: Path) -> list[Check]:
-    """The committed set, then the longer soaks of the same configuration (written on first
-    use into ``folder``)."""
+    """The committed set, then the longer soaks of the same configuration, the directed run,
+    the operand bits and the long soak (each written on first use into ``folder``)."""
     set_dir = vector_run.VECTOR_DIR / vector_set
     _, params = vector_sets.set_parameters(set_dir)
-    spec = units.spec(vector_sets.SETS[vector_set][0])
-    checks = [Check(vector_set, set_dir / "vectors.bin", int(params["CYCLES"]))]
     cfg = vector_sets.SETS[vector_set][0]
-    for name, seed, cycles in UNIT_SOAKS:
-        soak_dir = folder / "checks" / f"soak_{seed}_{cycles}"
-
-        def write(soak_dir: Path = soak_dir, seed: int = seed, cycles: int = cycles) -> None:
-            soak_dir.mkdir(parents=True, exist_ok=True)  # afresh: the generator may change
-            vector_sets.write_stimulus(cfg, cycles, seed, soak_dir)
-
-        checks.append(Check(name, soak_dir / "vectors.bin", cycles, writer=write))
-    directed_dir = folder / "checks" / "directed"
-    n_cycles = len(directed_inputs(cfg))
-
-    def write_directed() -> None:
-        directed_dir.mkdir(parents=True, exist_ok=True)
-        stim = soak_stimulus.from_inputs(units.spec(cfg), directed_inputs(cfg))
-        pred = soak_predict.predict(cfg, stim)
-        soak_file.write_vector_file(cfg, stim, pred, directed_dir / "vectors.bin")
-
-    checks.append(Check(DIRECTED, directed_dir / "vectors.bin", n_cycles, writer=write_directed))
-    bits_dir = folder / "checks" / "operand_bits"
-
-    def write_bits() -> None:
-        bits_dir.mkdir(parents=True, exist_ok=True)
-        stim = soak_stimulus.from_inputs(units.spec(cfg), operand_bit_inputs(cfg))
-        pred = soak_predict.predict(cfg, stim)
-        soak_file.write_vector_file(cfg, stim, pred, bits_dir / "vectors.bin")
-
-    # its length is known once written (the search decides it): the file's records
-    checks.append(Check(OPERAND_BITS, bits_dir / "vectors.bin", 0, writer=write_bits, spec=spec))
-    for name, seed, cycles in LONG_SOAKS:
-        soak_dir = folder / "checks" / f"soak_{seed}_{cycles}"
-
-        def write_long(soak_dir: Path = soak_dir, seed: int = seed, cycles: int = cycles) -> None:
-            soak_dir.mkdir(parents=True, exist_ok=True)
-            vector_sets.write_stimulus(cfg, cycles, seed, soak_dir)
-
-        checks.append(Check(name, soak_dir / "vectors.bin", cycles, writer=write_long))
-    return checks
+    return [
+        Check(vector_set, set_dir / "vectors.bin", int(params["CYCLES"])),
+        *(_soak_check(cfg, name, seed, cycles, folder) for name, seed, cycles in UNIT_SOAKS),
+        _inputs_check(cfg, DIRECTED, directed_inputs, folder),
+        _inputs_check(cfg, OPERAND_BITS, operand_bit_inputs, folder),
+        *(_soak_check(cfg, name, seed, cycles, folder) for name, seed, cycles in LONG_SOAKS),
+    ]
 
 
 DIRECTED = "directed: each operand at 0, 1, the powers of two and their neighbours, its ends"
@@ -193,15 +189,6 @@ def directed_inputs(cfg: units.UnitConfig) -> list[dict[str, int]]:
     return rows
 
 
-def _job_results(expect: Expect, ops: dict[str, int]) -> list[dict[str, int]]:
-    return expect(ops).results
-
-
-def _wait_cycles(cfg: units.UnitConfig, ops: dict[str, int]) -> int:
-    """Cycles from a job's start to its last result, with room to spare."""
-    return units.expect(cfg)(ops).busy_cycles + 4
-
-
 def operand_bit_jobs(
     cfg: units.UnitConfig,
 ) -> list[tuple[str, int, dict[str, int], dict[str, int]]]:
@@ -227,7 +214,7 @@ def operand_bit_jobs(
                 if not lo <= flipped <= hi:
                     continue
                 other = {**job, p.name: flipped}
-                if _job_results(expect, job) != _job_results(expect, other):
+                if expect(job).results != expect(other).results:
                     found.append((p.name, b, job, other))
                     break
     return found
@@ -239,6 +226,7 @@ def operand_bit_inputs(cfg: units.UnitConfig) -> list[dict[str, int]]:
     for two idle cycles (what the registers' hold paths keep is what the job uses) and
     started; the next job waits for its results."""
     ops = units.spec(cfg).operands
+    expect = units.expect(cfg)
 
     def row(values: dict[str, int], we: int, start: int, rst_n: int = 1) -> dict[str, int]:
         out = {"rst_n": rst_n, "start": start}
@@ -253,7 +241,8 @@ def operand_bit_inputs(cfg: units.UnitConfig) -> list[dict[str, int]]:
             rows.append(row(values, 1, 0))
             rows += [row(values, 0, 0)] * 2
             rows.append(row(values, 0, 1))
-            rows += [row(values, 0, 0)] * _wait_cycles(cfg, values)
+            # to the job's last result, with room to spare
+            rows += [row(values, 0, 0)] * (expect(values).busy_cycles + 4)
     return rows
 
 

@@ -258,8 +258,8 @@ def _prove_local(folder: Path, top: str, blacklist: list[str], steps: int, timeo
         log = (folder / "local.log").read_text()
         if "Equivalence successfully proven!" in log:
             return black
-        unproven = set(re.findall(r"Unproven \$equiv \S+: \\(\S+)_gold[ \n]", log))
-        unproven |= set(re.findall(r"Unproven \$equiv \S+: \\(\S+)_gold \[", log))
+        # "Unproven $equiv <cell>: \<wire>_gold \<wire>_gate", a bit index after each name
+        unproven = set(re.findall(r"Unproven \$equiv \S+: \\(\S+)_gold\s", log))
         if not unproven or unproven & ports or unproven <= set(black):
             return None
         black += sorted(unproven - set(black))
