@@ -23,14 +23,17 @@ def pytest_configure(config) -> None:
 
 @pytest.hookimpl(tryfirst=True)
 def pytest_collection_modifyitems(config, items) -> None:
-    """Mark the tests ``tests/tiers.py`` names ``slow`` (before ``-m`` deselects); a name there
-    that matches no collected test of its file is an error."""
-    from tests.tiers import classify
+    """Mark the tests ``tests/tiers.py`` names ``slow``, and the ``sim`` tests whose simulator
+    SIM does not choose ``sim_fixed`` (before ``-m`` deselects); a name there that matches no
+    collected test of its file is an error."""
+    from tests.tiers import classify, sim_fixed
 
     slow, stale = classify([item.nodeid for item in items])
     for item in items:
         if item.nodeid in slow:
             item.add_marker(pytest.mark.slow)
+        if item.get_closest_marker("sim") and sim_fixed(item.nodeid):
+            item.add_marker(pytest.mark.sim_fixed)
     if stale:
         raise pytest.UsageError(
             "tests/tiers.py names tests that do not exist (renamed or removed?): "

@@ -171,6 +171,26 @@ SLOW: dict[str, str] = {
 }
 
 
+SIM_CHOSEN: tuple[str, ...] = (
+    "tests/test_sim_divider.py",
+    "tests/test_sim_gouraud.py",
+    "tests/test_sim_specular.py",
+    "tests/test_sim_core.py",
+    "tests/test_sim_scene.py",
+    "tests/test_rom_files.py",
+)
+"""The files whose ``sim`` tests run the simulator SIM names (cocotb through
+``sim.runner.run_bench``, the scene co-simulation).  Every other ``sim`` test names its simulators
+itself (the vector soaks and replays, the Verilator-only benches, the gate-level, FuseSoC and
+coverage flows): ``tests/conftest.py`` marks it ``sim_fixed``, so that a run under
+``SIM=verilator make sim`` after the slow tier need not repeat it (``.ci/run``)."""
+
+
+def sim_fixed(nodeid: str) -> bool:
+    """True for a ``sim`` test whose simulator does not come from SIM (``SIM_CHOSEN``)."""
+    return nodeid.split("::")[0] not in SIM_CHOSEN
+
+
 def classify(nodeids: list[str]) -> tuple[set[str], list[str]]:
     """(the node ids that are slow, the names of ``SLOW`` that match none of ``nodeids`` although
     their file is among them: renamed or removed tests)."""
