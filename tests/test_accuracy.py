@@ -278,6 +278,19 @@ def test_exhaustive_search_equals_brute_force_on_a_small_unit() -> None:
         assert specular.shade_line(int(c), 0, int(z), int(n), 0, SMALL)[0] == expect
 
 
+@pytest.mark.parametrize("name", ["small", *specular.ROM_CONFIGS, *specular.KEPT_CONFIGS])
+def test_the_epicentre_walk_gives_the_whole_walk_s_rom_error(name: str) -> None:
+    """``rom_rel_errors`` (the walk stopped at the epicentre's end, what the BRDF budget search
+    runs) gives ``fixed_point_accuracy``'s rom_rel and rom_rel_z exactly, and the brute force's
+    on the small unit."""
+    cfg = SMALL if name == "small" else {**specular.ROM_CONFIGS, **specular.KEPT_CONFIGS}[name]
+    rel, rel_z = specular.rom_rel_errors(cfg)
+    acc = specular.fixed_point_accuracy(cfg)
+    assert np.array_equal(rel, acc.rom_rel) and np.array_equal(rel_z, acc.rom_rel_z)
+    if name == "small":
+        np.testing.assert_allclose(rel, brute_force(SMALL)["rom_rel"], rtol=1e-12, atol=1e-15)
+
+
 def test_float_maxima_are_not_below_any_sample() -> None:
     """The exact float maxima against dense sampling: never below a sample, and the samples
     come as close as their spacing allows (the maximum is found, not overestimated)."""

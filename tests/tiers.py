@@ -133,11 +133,6 @@ SLOW: dict[str, str] = {
         "at a time on 2 cores); quick: the same soaks at 150k (divider) and 350k cycles "
         "(Gouraud, specular)"
     ),
-    # -- the BRDF family's budget search (make brdf-budget)
-    "tests/test_brdf_fixed.py::test_the_page_shows_the_budget_table_the_search_prints": (
-        "the whole budget search, through the script (about 2 min); quick: "
-        "test_the_winner_the_page_names_fits_the_budget_and_its_figures_hold"
-    ),
     # -- mutation testing (make mutants): the whole lists; the quick tier runs a sample
     "tests/test_mutation.py::test_the_whole_list_gives_the_record_s_figures": (
         "300 mutants a design through their checks (a design a test, so the workers share them; "

@@ -30,8 +30,8 @@ from model.units.specular import (
     alpha_value,
     brdf_max_rel_error,
     epicentre,
-    fixed_point_accuracy,
     float_errors,
+    rom_rel_errors,
 )
 
 K_MAX = 64
@@ -167,7 +167,7 @@ def best_k_ranges(
 
 
 def cos_k_candidate(cfg: SpecularConfig, label: str) -> Candidate:
-    acc = fixed_point_accuracy(cfg)
+    rom_rel = rom_rel_errors(cfg)[0]
     ranges = ", ".join(f"{lo}..{hi}: {k}" for lo, hi, k in cfg.k_ranges)
     return Candidate(
         family=f"cos^k(a d), {label}",
@@ -175,7 +175,7 @@ def cos_k_candidate(cfg: SpecularConfig, label: str) -> Candidate:
         f"{cfg.rom_data_bits}, ROM 9 Q{cfg.a_int_bits}.{cfg.a_frac_bits}",
         bits=cfg.rom_bits,
         float_worst=_worst(float_errors(cfg), N_FROM, N_MAX),
-        fixed_worst=_worst(acc.rom_rel, N_FROM, N_MAX),
+        fixed_worst=_worst(rom_rel, N_FROM, N_MAX),
         small_worst=_worst(float_errors(cfg), 1, N_SMALL),
         config=cfg,
     )
@@ -230,18 +230,18 @@ def cos_k_configs() -> list[tuple[SpecularConfig, str]]:
 
 @functools.cache
 def _fixed_errors(alpha: str, addr_bits: int) -> np.ndarray:
-    """The exact fixed-point worst (``fixed_point_accuracy(cfg).rom_rel``) of n = 8..1000 on a
-    table k = 1..K_MAX (columns) of 2**addr_bits 16-bit words, a in Q8.14 (rows n - 1; inf
-    for n < 8).  An n's ROM-12 path depends only on its own table, its a word (round(a 2**14)
-    in any Q.14) and the address bits: the clamp before multiplier 11 never changes a word,
-    so a unit of one table k per n range has exactly these per-n errors."""
+    """The exact fixed-point worst (``rom_rel_errors``: ``fixed_point_accuracy(cfg).rom_rel``)
+    of n = 8..1000 on a table k = 1..K_MAX (columns) of 2**addr_bits 16-bit words, a in Q8.14
+    (rows n - 1; inf for n < 8).  An n's ROM-12 path depends only on its own table, its a
+    word (round(a 2**14) in any Q.14) and the address bits: the clamp before multiplier 11
+    never changes a word, so a unit of one table k per n range has exactly these per-n errors."""
     errors = np.full((N_MAX, K_MAX), np.inf)
     for k in range(1, K_MAX + 1):
         cfg = SpecularConfig(
             k_ranges=((1, N_MAX, k),), alpha=alpha, rom_addr_bits=addr_bits, a_int_bits=8,
             n_first=N_FROM,
         )  # fmt: skip
-        errors[N_FROM - 1 :, k - 1] = fixed_point_accuracy(cfg).rom_rel[N_FROM - 1 :]
+        errors[N_FROM - 1 :, k - 1] = rom_rel_errors(cfg)[0][N_FROM - 1 :]
     return errors
 
 

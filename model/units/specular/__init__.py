@@ -51,6 +51,7 @@ from model.units.specular.accuracy import (
     format_accuracy_table,
     format_brdf_table,
     format_config_table,
+    rom_rel_errors,
     single_table_worst,
 )
 from model.units.specular.approx import (
@@ -177,6 +178,7 @@ __all__ = [
     "rom12_words",
     "rom_layout",
     "rom_path",
+    "rom_rel_errors",
     "rom_text",
     "rotation_onto",
     "setup_line",

@@ -268,6 +268,62 @@ def _exhaustive_angles(
                         per_n[0, j], per_z[0, j] = rel, z
 
 
+def rom_rel_errors(cfg: SpecularConfig = DEFAULT) -> tuple[np.ndarray, np.ndarray]:
+    """(``rom_rel``, ``rom_rel_z``) of ``fixed_point_accuracy(cfg)`` alone: the ROM-12 word's
+    relative error against cos^n over every angle register value of the epicentre, per n (0 for
+    an n the unit does not keep), by the same walk over the addresses' angle intervals stopped
+    at the epicentre's end (for n >= 8 a few dozen addresses of 4096: the budget search in
+    ``model.units.brdf.budget`` needs this figure of many configurations and no other)."""
+    return _rom_rel_errors(cfg)
+
+
+@functools.cache
+def _rom_rel_errors(cfg: SpecularConfig) -> tuple[np.ndarray, np.ndarray]:
+    t = tables(cfg)
+    lo, hi = cfg.n_first, cfg.n_last
+    rel, rel_z = np.zeros(N_MAX), np.zeros(N_MAX, dtype=np.int64)
+    _epicentre_rom_rel(
+        np.arange(lo, hi + 1, dtype=np.int64), np.ascontiguousarray(t.rom9[lo : hi + 1]),
+        np.ascontiguousarray(t.tsel[lo : hi + 1]), t.rom12, cfg.rom_addr_bits, cfg.addr_shift,
+        cfg.z_frac_bits, cfg.rom_data_bits, REL_FLOOR, rel[lo - 1 : hi], rel_z[lo - 1 : hi],
+    )  # fmt: skip
+    return rel, rel_z
+
+
+@njit(cache=True)
+def _epicentre_rom_rel(
+    ns, a_word, tsel, rom12, addr_bits, shift, zf, data_bits, floor, rel, rel_z
+) -> None:
+    """``_exhaustive_angles``' ROM-12 relative error (its per_n[0], per_z[0]) alone: the same
+    address intervals, the same two ends, in address order until an interval starts past the
+    epicentre (the intervals' starts only grow with the address)."""
+    size = 1 << addr_bits
+    half = 1 << (shift - 1)
+    z_cap = 3 << zf
+    for j in range(ns.size):
+        n, aw, tab = ns[j], a_word[j], tsel[j]
+        z_rel = _epicentre_end(n, zf, floor)
+        for i in range(size + 1):
+            num = (i << shift) - half
+            lo = 0 if num <= 0 else (num + aw - 1) // aw
+            if lo > z_rel:
+                break
+            if i < size:
+                hi = (((i + 1) << shift) - half + aw - 1) // aw - 1
+                word = rom12[(tab << addr_bits) | i]
+            else:
+                hi = max(lo, z_cap)
+                word = 0
+            if lo > hi:
+                continue
+            for end in range(2):
+                z = lo if end == 0 else min(hi, z_rel)
+                exact = _references(z, zf, n, 1, 1.0)[1]
+                err = abs(word / 2.0**data_bits / exact - 1.0)
+                if err > rel[j]:
+                    rel[j], rel_z[j] = err, z
+
+
 @njit(cache=True)
 def _every_c(
     words: np.ndarray,
