@@ -8,7 +8,7 @@ PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 RTL    := $(wildcard rtl/*.v)
 # The units (with RESET_ALL) and the tops; every one is read from its .f source list
-UNITS  := divider_shift gouraud_segment specular_unit
+UNITS  := divider_shift gouraud_segment specular_unit brdf_unit
 TOPS   := shading_core
 PYTEST := $(PY) -m pytest
 # Parallel pytest workers for the cocotb regressions (each bench builds in its own folder).

@@ -62,7 +62,9 @@ def accuracy_report() -> str:
 
 
 def write_roms() -> None:
-    for path in divider.write_roms() + specular.write_roms():
+    from model.units import brdf
+
+    for path in divider.write_roms() + specular.write_roms() + brdf.write_roms():
         print(f"wrote {path}")
 
 

@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from model.units.brdf import FixedConfig
 from model.units.specular import N_MAX, SpecularConfig
 from sim import units
 from sim.protocol import Port, UnitSpec
@@ -161,7 +162,7 @@ def draw_plan(cfg: units.UnitConfig) -> DrawPlan:
             DRAW_LENGTH
             if p.name == "len"
             else DRAW_N
-            if p.name == "n" and isinstance(cfg, SpecularConfig)
+            if p.name == "n" and isinstance(cfg, SpecularConfig | FixedConfig)
             else DRAW_PLAIN
             for p in ops
         ],
@@ -175,6 +176,8 @@ def draw_plan(cfg: units.UnitConfig) -> DrawPlan:
         n_ext[i] = len(values)
     edges: set[int] = set()
     kept = (0, 0, 0)
+    if isinstance(cfg, FixedConfig):  # the BRDF unit: n = 1..1000, no tables by n
+        edges = {0, 1, 2, N_MAX, N_MAX + 1, (1 << units.N_WIDTH) - 1}
     if isinstance(cfg, SpecularConfig):
         edges = {0, 1, N_MAX, N_MAX + 1, (1 << units.N_WIDTH) - 1}
         for hi in cfg.n_hi:

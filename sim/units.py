@@ -1,6 +1,10 @@
 # SPDX-License-Identifier: Apache-2.0
 """Each unit's ports and its golden-model job, per configuration (no cocotb, no simulator).
 
+The units: the divider (``DividerConfig``), the Gouraud unit (``GouraudConfig``), the specular
+unit (``SpecularConfig``) and the BRDF unit (``model.units.brdf.FixedConfig``: rtl/brdf_unit.v,
+the specular unit's ports in the formats of its ``angle``).
+
 ``spec(cfg)`` lists the operand registers and result outputs of the RTL built for ``cfg``
 (widths as the RTL derives them); ``expect(cfg)`` turns a copy of the operand registers into the
 ``Job`` an accepted start must produce.  The cocotb benches, the protocol monitor and the
@@ -9,7 +13,8 @@ vector soak all take both from here.
 
 from __future__ import annotations
 
-from model.units import divider, gouraud, specular
+from model.units import brdf, divider, gouraud, specular
+from model.units.brdf import FixedConfig
 from model.units.divider import DividerConfig
 from model.units.gouraud import GouraudConfig
 from model.units.specular import SpecularConfig
@@ -18,7 +23,7 @@ from sim.protocol import Expect, Job, Port, UnitSpec
 # The specular unit's n register is 10 bits (n = 0 and 1001..1023 raise n_err).
 N_WIDTH = 10
 
-UnitConfig = DividerConfig | GouraudConfig | SpecularConfig
+UnitConfig = DividerConfig | GouraudConfig | SpecularConfig | FixedConfig
 
 
 def spec(cfg: UnitConfig) -> UnitSpec:
@@ -42,18 +47,22 @@ def spec(cfg: UnitConfig) -> UnitSpec:
                 Port("last", 1, kind="strobe"),
             ),
         )
-    if isinstance(cfg, SpecularConfig):
-        z_width = cfg.z_int_bits + cfg.z_frac_bits
+    if isinstance(cfg, SpecularConfig | FixedConfig):
+        # The BRDF unit (a FixedConfig) has the specular unit's ports, in its angle's formats
+        top, fmt = (
+            ("specular_unit", cfg) if isinstance(cfg, SpecularConfig) else ("brdf_unit", cfg.angle)
+        )
+        z_width = fmt.z_int_bits + fmt.z_frac_bits
         return UnitSpec(
-            "specular_unit",
+            top,
             operands=(
-                Port("c", cfg.c_int_bits + cfg.c_frac_bits),
+                Port("c", fmt.c_int_bits + fmt.c_frac_bits),
                 Port("dz", z_width, signed=True),
                 Port("z0", z_width, signed=True),
                 Port("n", N_WIDTH),
-                Port("len", cfg.len_width),
+                Port("len", fmt.len_width),
             ),
-            outputs=(Port("intensity", cfg.out_width), Port("n_err", 1, kind="flag")),
+            outputs=(Port("intensity", fmt.out_width), Port("n_err", 1, kind="flag")),
         )
     raise TypeError(f"no unit has a configuration of type {type(cfg).__name__}")
 
@@ -66,6 +75,8 @@ def expect(cfg: UnitConfig) -> Expect:
         return lambda ops: _gouraud_job(ops, cfg)
     if isinstance(cfg, SpecularConfig):
         return lambda ops: _specular_job(ops, cfg)
+    if isinstance(cfg, FixedConfig):
+        return lambda ops: _brdf_job(ops, cfg)
     raise TypeError(f"no unit has a configuration of type {type(cfg).__name__}")
 
 
@@ -95,4 +106,15 @@ def _specular_job(ops: dict[str, int], cfg: SpecularConfig) -> Job:
         results=[{"intensity": int(v), "n_err": int(n_err)} for v in values],
         busy_cycles=specular.cycles(length, cfg),
         valid_offsets=specular.valid_offsets(length, cfg),
+    )
+
+
+def _brdf_job(ops: dict[str, int], cfg: FixedConfig) -> Job:
+    length = ops["len"]
+    values, n_err = brdf.unit_line(ops["c"], ops["dz"], ops["z0"], ops["n"], length, cfg)
+    return Job(
+        operands=ops,
+        results=[{"intensity": int(v), "n_err": int(n_err)} for v in values],
+        busy_cycles=brdf.cycles(length, cfg),
+        valid_offsets=brdf.valid_offsets(length, cfg),
     )

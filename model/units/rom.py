@@ -6,7 +6,8 @@ a line, ``width`` bits as exactly ``hex_digits(width)`` hex digits, address 0 fi
 check words: 32-bit fields, each in ``chunks(width)`` words of ``width`` bits, low bits first, each
 after a ``// name = value`` comment:
 
-* ``magic``: the kind of ROM (``MAGIC``: ``"DIVR"``, ``"SR09"``, ``"SR12"`` in ASCII);
+* ``magic``: the kind of ROM (``MAGIC``: ``"DIVR"``, ``"SR09"``, ``"SR12"``, ``"BRDA"``,
+  ``"BRDC"`` in ASCII);
 * ``depth``, ``width``: of the data words;
 * the configuration the contents were built for, one field per RTL parameter
   (``KIND_FIELDS``; ``ALPHA`` as its index in ``ALPHA_NAMES``, a K of an unused table as 0);
@@ -58,6 +59,8 @@ MAGIC: dict[str, int] = {
     "divider_recip": _tag("DIVR"),
     "specular_a": _tag("SR09"),
     "specular_cos": _tag("SR12"),
+    "brdf_angle": _tag("BRDA"),
+    "brdf_coef": _tag("BRDC"),
 }
 """The first check field of each kind of image."""
 END_MARK = _tag("END!")
@@ -68,15 +71,24 @@ KIND_FIELDS: dict[str, tuple[str, ...]] = {
         *("N_HI0", "N_HI1", "N_HI2", "N_HI3", "K0", "K1", "K2", "K3"),
     ),
     "specular_cos": ("ROM_ADDR_BITS", "ROM_DATA_BITS", "NUM_TABLES", "K0", "K1", "K2", "K3"),
+    "brdf_angle": ("COS_ADDR_BITS", "COS_DATA_BITS", "TABLE"),
+    "brdf_coef": ("FORM", "COEF_BITS", "COEF_FRAC_BITS"),
 }
 """The configuration fields of each kind, in image order: the RTL parameters they must equal."""
 KIND_TITLES = {
     "divider_recip": "divider_shift reciprocal ROM",
     "specular_a": "specular_unit ROM 9 (a)",
     "specular_cos": "specular_unit ROM 12 (cos^k)",
+    "brdf_angle": "brdf_unit angle table",
+    "brdf_coef": "brdf_unit coefficient table",
 }
 ALPHA_NAMES = ("taylor", "inflection")
 """``ALPHA`` field values: the index of the mode (the RTL's ``ALPHA`` string parameter)."""
+FORM_NAMES = ("quadratic", "cubic", "piecewise", "log2", "cosine_quadratic")
+"""``FORM`` field values (the BRDF unit's coefficient table): the index of the form, in
+``model.units.brdf.FORMS``' order (the RTL's ``FORM`` string parameter)."""
+TABLE_NAMES = ("w", "log2cos")
+"""``TABLE`` field values (the BRDF unit's angle table): 0 holds w = 1 - cos, 1 -log2 cos."""
 FNV_OFFSET = 0x811C9DC5
 FNV_PRIME = 0x01000193
 _HEX = re.compile(r"[0-9a-fA-F]+")
@@ -158,8 +170,9 @@ class RomLayout:
 
 
 def _field_text(name: str, value: int) -> str:
-    if name == "ALPHA" and 0 <= value < len(ALPHA_NAMES):
-        return f"{value} ({ALPHA_NAMES[value]})"
+    names = {"ALPHA": ALPHA_NAMES, "FORM": FORM_NAMES, "TABLE": TABLE_NAMES}.get(name, ())
+    if 0 <= value < len(names):
+        return f"{value} ({names[value]})"
     if name in ("magic", "end mark") and 0 <= value < 1 << 32:
         text = value.to_bytes(4, "big").decode("latin-1")
         return f"0x{value:08x} ({text!r})" if text.isprintable() else f"0x{value:08x}"

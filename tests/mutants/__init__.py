@@ -20,6 +20,10 @@ snippet is no longer in the RTL exactly once, ``build`` fails instead of testing
   (a data-path register's reset value; the RESET_ALL = 0 instance has no such reset).  The
   vector soak (tests/test_soak.py) must fail on the RESET_ALL = 1 instance only, naming q in
   the reset cycle: it holds that instance to its own prediction (data outputs 0 after reset).
+* ``brdf_unit_round_quarter``: the BRDF unit's output rounding adds a quarter of the output LSB
+  instead of a half (the rounding constant of C * F shifted one bit down), so C * F rounds up
+  only from three quarters on.  The cocotb bench (tests/test_sim_brdf.py) must fail on it,
+  naming intensity.
 """
 
 from __future__ import annotations
@@ -58,6 +62,12 @@ MUTANTS = {
         "        q_reg <= {Q_WIDTH{1'b0}};\n",
         "        q_reg <= {Q_WIDTH{1'b1}};  // MUTANT: RESET_ALL = 1 resets q to all ones\n",
         unit="divider_shift",
+    ),
+    "brdf_unit_round_quarter": Mutant(
+        "brdf_unit_round_quarter",
+        "({{OP_WIDTH{1'b0}}, 1'b1} << (OSHIFT - 1));\n",
+        "({{OP_WIDTH{1'b0}}, 1'b1} << (OSHIFT - 2));  // MUTANT: a quarter LSB\n",
+        unit="brdf_unit",
     ),
 }
 

@@ -11,11 +11,12 @@ hardware in ``approx`` and ``claims``).
 
 The fixed-point half: ``fixed`` (each form's bit-exact unit: widths, tables, numba kernels),
 ``fixed_accuracy`` (their exhaustive worst errors over every angle register value) and
-``budget`` (the most accurate unit for n >= 8 within the patent's table bits).
+``budget`` (the most accurate unit for n >= 8 within the patent's table bits), and ``unit``
+(the hardware unit's line as rtl/brdf_unit.v computes it: timing, RTL parameters, ROM images).
 
 Modules: ``approx`` (the forms, their coefficients and exact worst errors), ``claims`` (the
 thesis's claimed bounds against those errors, and their table), ``fixed``, ``fixed_accuracy``,
-``budget``.  This file only re-exports.
+``budget``, ``unit``, ``unit_doc`` (the unit's data sheet tables).  This file only re-exports.
 """
 
 from model.units.brdf.approx import (
@@ -77,6 +78,35 @@ from model.units.brdf.fixed_accuracy import (
     format_fixed_table,
     interval_ends,
 )
+from model.units.brdf.unit import (
+    FORM_LATENCY,
+    FRONT_STAGES,
+    QUADRATIC_A_INT_BITS,
+    RTL_FORMS,
+    UNIT_CONFIGS,
+    check_unit,
+    cycles,
+    fill_latency,
+    hdl_parameters,
+    line_angles,
+    read_rom,
+    rom_kinds,
+    rom_layout,
+    rom_name,
+    rom_path,
+    rom_text,
+    rom_words,
+    unit_line,
+    valid_offsets,
+    write_roms,
+)
+from model.units.brdf.unit_doc import (
+    ParameterRange,
+    format_hardware,
+    multipliers,
+    parameter_ranges,
+    unit_config,
+)
 
 __all__ = [
     "CLAIMS",
@@ -85,10 +115,15 @@ __all__ = [
     "COS_K",
     "CUBIC_Q",
     "FORMS",
+    "FORM_LATENCY",
+    "FRONT_STAGES",
     "GRID",
     "INV_E",
     "N_FROM",
+    "QUADRATIC_A_INT_BITS",
+    "RTL_FORMS",
     "TIE_RTOL",
+    "UNIT_CONFIGS",
     "Bloom",
     "Candidate",
     "Claim",
@@ -96,6 +131,7 @@ __all__ = [
     "Cubic",
     "FixedAccuracy",
     "FixedConfig",
+    "ParameterRange",
     "Peak",
     "Quadratic",
     "angle_table",
@@ -107,25 +143,44 @@ __all__ = [
     "check_claim",
     "check_claims",
     "check_n",
+    "check_unit",
     "claim_errors",
     "coefficient_values",
     "coefficient_words",
     "cosine_quadratic_scale",
     "cubic_coefficients",
+    "cycles",
     "epicentre_codes",
     "evaluate",
     "exp2_approx",
+    "fill_latency",
     "fixed_accuracy",
     "format_budget_table",
     "format_claims_table",
     "format_error",
     "format_fixed_table",
+    "format_hardware",
+    "hdl_parameters",
     "interval_ends",
+    "line_angles",
     "log2_table",
     "max_rel_error",
+    "multipliers",
+    "parameter_ranges",
     "quadratic_coefficients",
+    "read_rom",
     "rom_images",
+    "rom_kinds",
+    "rom_layout",
+    "rom_name",
+    "rom_path",
+    "rom_text",
+    "rom_words",
     "table_bits",
+    "unit_config",
+    "unit_line",
+    "valid_offsets",
     "winner",
     "worst_errors",
+    "write_roms",
 ]

@@ -1,0 +1,286 @@
+# SPDX-License-Identifier: Apache-2.0
+"""BRDF family: the hardware unit's line, as ``rtl/brdf_unit.v`` computes it (docs/brdf_unit.md).
+
+The unit shares the patent specular unit's front and protocol: operand registers c, dz, z0, n,
+len (the formats of ``FixedConfig.angle``, a ``SpecularConfig``), the accumulator
+zeta(i) = z0 + i dz (``angle.acc_width`` bits, never wraps), per pixel the form's output word
+``fixed.evaluate(cfg, zeta, n)`` (``out_bits`` fraction bits), times C rounded (add half, slice)
+and saturated to ``angle.out_width`` bits, as the specular unit's multiplier 13 does with its
+ROM-12 word.  n outside 1..1000 gives intensity 0 and n_err = 1 on every pixel.
+
+Owns which forms have RTL (``RTL_FORMS``, ``FORM_LATENCY``) and the extra rule a unit's tables
+impose (``check_unit``), ``unit_line``, the timing (``fill_latency``, ``cycles``,
+``valid_offsets``), ``hdl_parameters`` and the ROM images (``rom_layout``, ``rom_text``,
+``rom_path``, ``read_rom``, ``write_roms``; ``UNIT_CONFIGS`` names the committed ones).  Only
+``c_int_bits``, ``c_frac_bits``, ``z_int_bits``, ``z_frac_bits``, ``len_width`` and
+``out_width`` of ``cfg.angle`` reach the unit; its n range is always 1..1000.  May import numpy,
+numba, ``model.units.fixed``, ``rom``, ``model.units.specular``'s public names and ``fixed``.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from numba import njit
+
+from model.units import fixed as fx
+from model.units import rom
+from model.units.brdf.fixed import (
+    COSINE_QUADRATIC,
+    FORMS,
+    QUADRATIC,
+    FixedConfig,
+    angle_table,
+    coefficient_words,
+    evaluate,
+)
+from model.units.specular import N_MAX, N_WIDTH
+
+FRONT_STAGES = 7
+"""Clock edges of every form's front and back: the accumulator, |zeta| in two steps, the
+angle-table address, the table read, the w gate (w = 2**D from pi/2 on), and x C; the
+rounded, saturated result is registered at the next edge (docs/brdf_unit.md, "Timing")."""
+FORM_LATENCY: dict[str, int] = {"cosine_quadratic": 4, "quadratic": 4}
+"""Pipeline stages of each form's datapath module (rtl/brdf_<form>.v), w in to the output word:
+every form with RTL (the others raise in ``check_unit``)."""
+RTL_FORMS = tuple(FORM_LATENCY)
+QUADRATIC_A_INT_BITS = 10
+"""Integer bits of the quadratic's coefficient a: its largest value, 786.44 at n = 1000, needs
+10 (``FixedConfig.coef_formats`` gives the same for every coef_bits from 10 on, which the tests
+check; the RTL derives a's fraction bits as COEF_BITS - 10 and the ROM image's header carries
+the model's, so a disagreement stops the simulation)."""
+UNIT_CONFIGS: dict[str, FixedConfig] = {
+    "cosine_quadratic": COSINE_QUADRATIC,
+    "quadratic": QUADRATIC,
+}
+"""The configurations whose ROM images are committed under rtl/rom/ (``make roms``) and which
+the bench runs: each form's default widths (``fixed.CONFIGS``)."""
+
+
+def check_unit(cfg: FixedConfig) -> FixedConfig:
+    """``cfg`` if the unit can be built for it, else ``ValueError`` naming the field, its value
+    and the legal range: the form must have RTL (``RTL_FORMS``), and the quadratic's coefficient
+    word must hold a up to 786.44 (coef_bits >= 10; ``FixedConfig`` alone allows 4)."""
+    if not isinstance(cfg, FixedConfig):
+        raise ValueError(f"cfg = {cfg!r} is out of range: legal is a FixedConfig")
+    if cfg.form not in RTL_FORMS:
+        raise ValueError(
+            f"form = {cfg.form!r} is out of range: the forms with RTL are {RTL_FORMS} "
+            f"({cfg.form} has no RTL yet)"
+        )
+    if cfg.form == "quadratic":
+        fx.check_width("coef_bits", cfg.coef_bits, QUADRATIC_A_INT_BITS, 32)
+    return cfg
+
+
+def fill_latency(cfg: FixedConfig) -> int:
+    """Clock edges from an accepted start to the first valid: ``FRONT_STAGES`` + the form's."""
+    return FRONT_STAGES + FORM_LATENCY[check_unit(cfg).form]
+
+
+# ==================================================================== the line
+@njit(cache=True)
+def _accumulate(dz: int, z0: int, out: np.ndarray) -> None:
+    """The accumulator: out[i] = z0 + i dz (exact: ``acc_width`` bits never wrap)."""
+    value = z0
+    for i in range(out.size):
+        out[i] = value
+        value += dz
+
+
+@njit(cache=True)
+def scale_kernel(words: np.ndarray, c: int, shift: int, out_max: int, out: np.ndarray) -> None:
+    """Per pixel: the form's output word x C, rounded (add half, slice) and saturated."""
+    for i in range(words.size):
+        out[i] = fx.saturate(fx.round_shift(c * words[i], shift), 0, out_max)
+
+
+def _check_line(c, dz, z0, n, length, cfg: FixedConfig) -> tuple[int, int, int, int, int]:
+    acc = check_unit(cfg).angle
+    c_i = int(fx.check_operand("c", c, 0, acc.c_format.hi))
+    z_lo, z_hi = acc.z_format.lo, acc.z_format.hi
+    dz_i = int(fx.check_operand("dz", dz, z_lo, z_hi))
+    z0_i = int(fx.check_operand("z0", z0, z_lo, z_hi))
+    n_i = int(fx.check_operand("n", n, 0, (1 << N_WIDTH) - 1))
+    len_i = int(fx.check_operand("length", length, 0, acc.len_max))
+    return c_i, dz_i, z0_i, n_i, len_i
+
+
+def line_angles(dz, z0, length, cfg: FixedConfig) -> np.ndarray:
+    """The accumulator zeta(i) = z0 + i dz for each of the l + 1 pixels."""
+    _, dz_i, z0_i, _, len_i = _check_line(0, dz, z0, 1, length, cfg)
+    acc = np.empty(len_i + 1, dtype=np.int64)
+    _accumulate(dz_i, z0_i, acc)
+    return acc
+
+
+def unit_line(c, dz, z0, n, length, cfg: FixedConfig) -> tuple[np.ndarray, int]:
+    """What ``rtl/brdf_unit.v`` outputs for one line: (the l + 1 intensities, n_err).
+
+    ``c``: the C register (unsigned Q(c_int_bits).(c_frac_bits) of ``cfg.angle``, output LSBs);
+    ``dz``, ``z0``: signed Q(z_int_bits).(z_frac_bits), units of pi/2; ``n``: any 10-bit value
+    (1..1000 are the unit's, every other gives zeros with n_err = 1); ``length``: the intervals
+    l, 0..2**len_width - 1.  Pixel i is ``evaluate(cfg, z0 + i dz, n)`` x C, rounded (add half,
+    slice: c_frac_bits + out_bits bits dropped) and saturated to ``angle.out_width`` bits.
+    Raises ``ValueError`` naming a bad operand, its value and the legal range.
+    """
+    c_i, dz_i, z0_i, n_i, len_i = _check_line(c, dz, z0, n, length, cfg)
+    if not 1 <= n_i <= N_MAX:
+        return np.zeros(len_i + 1, dtype=np.int64), 1
+    acc = np.empty(len_i + 1, dtype=np.int64)
+    _accumulate(dz_i, z0_i, acc)
+    words = evaluate(cfg, acc, n_i)
+    out = np.empty(len_i + 1, dtype=np.int64)
+    a = cfg.angle
+    scale_kernel(words, c_i, a.c_frac_bits + cfg.out_bits, a.out_max, out)
+    return out, 0
+
+
+def cycles(length, cfg: FixedConfig):
+    """Clock cycles ``busy`` is high for a line of l intervals: ``fill_latency(cfg)`` + l.
+
+    The l + 1 valid strobes come at ``valid_offsets``; the last in the first cycle busy is 0,
+    when a new start is already accepted.  Takes an int or an array of interval counts."""
+    c = fill_latency(cfg) + fx.check_operand("length", length, 0, cfg.angle.len_max)
+    return int(c) if c.ndim == 0 else c
+
+
+def valid_offsets(length, cfg: FixedConfig) -> list[int]:
+    """Cycle offsets of the valid strobes (0 = the cycle right after the start edge)."""
+    len_i = int(fx.check_operand("length", length, 0, cfg.angle.len_max))
+    first = fill_latency(cfg)
+    return list(range(first, first + len_i + 1))
+
+
+# ==================================================================== ROM images
+WHICH = ("angle", "coef")
+
+
+def _check_which(cfg: FixedConfig, which: str) -> None:
+    if which not in WHICH:
+        raise ValueError(f"which = {which!r} is out of range: legal are {WHICH}")
+    if which == "coef" and not cfg.coefficients:
+        raise ValueError(f"which = 'coef' is out of range: the {cfg.form} form has no such table")
+
+
+def rom_name(cfg: FixedConfig, which: str) -> str:
+    """The image's file name: the angle table by what it holds (w = 1 - cos, shared by every
+    form but log2) and its widths, ``brdf_w_a12_d20.hex``; the coefficient table by form,
+    word width and a's format, ``brdf_quadratic_coef_c18_q10.8.hex``."""
+    _check_which(cfg, which)
+    if which == "angle":
+        kind = "log2cos" if cfg.form == "log2" else "w"
+        return f"brdf_{kind}_a{cfg.cos_addr_bits}_d{cfg.cos_data_bits}.hex"
+    fmt = "_".join(f"q{q.int_bits}.{q.frac_bits}" for q in cfg.coef_formats.values())
+    return f"brdf_{cfg.form}_coef_c{cfg.coef_bits}_{fmt}.hex"
+
+
+def rom_path(cfg: FixedConfig, which: str = "angle") -> Path:
+    """The committed image of the angle table (``which="angle"``) or the coefficient table
+    (``"coef"``) under rtl/rom/."""
+    return rom.ROM_DIR / rom_name(check_unit(cfg), which)
+
+
+def _coef_frac_bits(cfg: FixedConfig) -> int:
+    return next(iter(cfg.coef_formats.values())).frac_bits
+
+
+def rom_layout(cfg: FixedConfig, which: str = "angle") -> rom.RomLayout:
+    """The image of the angle table (2**A words of D bits; fields COS_ADDR_BITS,
+    COS_DATA_BITS, TABLE) or of the coefficient table (1000 words of coef_bits, a of n at
+    address n - 1; fields FORM, COEF_BITS, COEF_FRAC_BITS)."""
+    check_unit(cfg)
+    _check_which(cfg, which)
+    if which == "angle":
+        config = (
+            ("COS_ADDR_BITS", cfg.cos_addr_bits),
+            ("COS_DATA_BITS", cfg.cos_data_bits),
+            ("TABLE", rom.TABLE_NAMES.index("log2cos" if cfg.form == "log2" else "w")),
+        )
+        return rom.RomLayout("brdf_angle", 1 << cfg.cos_addr_bits, cfg.cos_data_bits, config)
+    config = (
+        ("FORM", FORMS.index(cfg.form)),
+        ("COEF_BITS", cfg.coef_bits),
+        ("COEF_FRAC_BITS", _coef_frac_bits(cfg)),
+    )
+    return rom.RomLayout("brdf_coef", N_MAX, cfg.coef_bits, config)
+
+
+def rom_words(cfg: FixedConfig, which: str = "angle") -> np.ndarray:
+    """The data words of the image: ``angle_table`` or the coefficient table's one column."""
+    check_unit(cfg)
+    _check_which(cfg, which)
+    if which == "angle":
+        return angle_table(cfg)
+    return coefficient_words(cfg)[:, 0]
+
+
+def rom_text(cfg: FixedConfig, which: str = "angle") -> str:
+    """The ``$readmemh`` image of the angle or the coefficient table."""
+    layout = rom_layout(cfg, which)
+    if which == "angle":
+        header = (
+            f"brdf_unit angle table: w = 1 - cos(i/2^{cfg.cos_addr_bits} * pi/2) as "
+            f"round(2 sin^2(x/2) 2^{cfg.cos_data_bits}), i < 2^{cfg.cos_addr_bits}\n"
+            "every form but log2 reads it. Generated by model.units.brdf."
+        )
+    else:
+        q = next(iter(cfg.coef_formats.values()))
+        header = (
+            f"brdf_unit coefficient table, {cfg.form} form: a(n) for n = 1..{N_MAX} at "
+            f"address n - 1, unsigned Q{q.int_bits}.{q.frac_bits}\n"
+            "Generated by model.units.brdf."
+        )
+    return rom.format_image(rom_words(cfg, which), layout, header)
+
+
+def read_rom(cfg: FixedConfig, which: str = "angle", path=None) -> list[int]:
+    """The data words of the image at ``path`` (default ``rom_path(cfg, which)``), checked
+    against ``cfg`` (``rom.read_hex``: a bad or foreign image raises ``rom.RomFileError``)."""
+    path = rom_path(cfg, which) if path is None else path
+    return rom.read_hex(path, rom_layout(cfg, which))
+
+
+def rom_kinds(cfg: FixedConfig) -> tuple[str, ...]:
+    """The tables the unit of ``cfg`` reads: ``("angle",)``, and ``"coef"`` if it has one."""
+    return ("angle", "coef") if check_unit(cfg).coefficients else ("angle",)
+
+
+def write_roms() -> list[Path]:
+    """Write the images of every configuration in ``UNIT_CONFIGS`` to rtl/rom/."""
+    paths = []
+    for cfg in UNIT_CONFIGS.values():
+        for which in rom_kinds(cfg):
+            path = rom_path(cfg, which)
+            path.parent.mkdir(parents=True, exist_ok=True)
+            path.write_text(rom_text(cfg, which))
+            paths.append(path)
+    return list(dict.fromkeys(paths))
+
+
+# ==================================================================== RTL parameters
+def hdl_parameters(cfg: FixedConfig) -> dict[str, object]:
+    """The Verilog parameters of ``rtl/brdf_unit.v`` for ``cfg`` (its fields in UPPER_CASE,
+    the angle format's six fields, the ROM images as absolute paths; COEF_ROM_FILE only for a
+    form with a coefficient table)."""
+    check_unit(cfg)
+    a = cfg.angle
+    params: dict[str, object] = {
+        "FORM": cfg.form,
+        "C_INT_BITS": a.c_int_bits,
+        "C_FRAC_BITS": a.c_frac_bits,
+        "Z_INT_BITS": a.z_int_bits,
+        "Z_FRAC_BITS": a.z_frac_bits,
+        "LEN_WIDTH": a.len_width,
+        "OUT_WIDTH": a.out_width,
+        "COS_ADDR_BITS": cfg.cos_addr_bits,
+        "COS_DATA_BITS": cfg.cos_data_bits,
+        "COEF_BITS": cfg.coef_bits,
+        "WORK_BITS": cfg.work_bits,
+        "OUT_BITS": cfg.out_bits,
+        "ANGLE_ROM_FILE": str(rom_path(cfg, "angle")),
+    }
+    if cfg.coefficients:
+        params["COEF_ROM_FILE"] = str(rom_path(cfg, "coef"))
+    return params

@@ -1,0 +1,72 @@
+# SPDX-License-Identifier: Apache-2.0
+"""Run the BRDF unit's cocotb bench (sim/tb_brdf.py) under SIM (Icarus by default): each form
+with RTL at its default widths (``brdf.UNIT_CONFIGS``), RESET_ALL = 0 and, for the tests that
+reset, 1; and the saved mutant ``brdf_unit_round_quarter`` (tests/mutants), which it must fail
+naming intensity."""
+
+from __future__ import annotations
+
+import pytest
+
+from model.units import brdf, specular
+from sim.runner import SIM_BUILD, run_bench, simulator
+from tests import mutants
+from tests.conftest import record_sim
+
+pytestmark = pytest.mark.sim
+
+RESET_ALL_TESTS = ["test_extremes", "test_reset_mid_line", "test_random_strobes"]
+
+
+def _run(name: str, reset_all: int, **kwargs) -> list[dict]:
+    cfg = brdf.UNIT_CONFIGS[name]
+    return run_bench(
+        "brdf_unit",
+        "sim.tb_brdf",
+        f"brdf_{name}",
+        brdf.hdl_parameters(cfg),
+        cfg,
+        reset_all=reset_all,
+        **kwargs,
+    )
+
+
+@pytest.mark.parametrize("name", list(brdf.UNIT_CONFIGS))
+def test_brdf_rtl_matches_model(request, name: str) -> None:
+    """Every test of the bench at RESET_ALL = 0: every n = 1..1000 through the unit, the
+    extremes, the protocol probes, random strobes; every output compared in every cycle."""
+    records = _run(name, 0)
+    record_sim(request, records)
+    by_test = {r["test"]: r for r in records}
+    assert by_test["every_n_random_lines"]["jobs"] >= specular.N_MAX + 4, records
+    assert by_test["extremes"]["compared"] > 10_000, records
+    assert all(r["errors"] == 0 for r in records), records
+    # Data outputs X between a reset and the first result: the data path is not reset
+    # (Verilator is two-state: no X at all).
+    x_cycles = sum(r["x_data_cycles"] for r in records)
+    assert (x_cycles > 0) if simulator() == "icarus" else (x_cycles == 0), records
+
+
+@pytest.mark.parametrize("name", list(brdf.UNIT_CONFIGS))
+def test_brdf_rtl_reset_all(request, name: str) -> None:
+    """RESET_ALL = 1: the tests that reset, with the data outputs 0 from a reset on."""
+    records = _run(name, 1, testcase=RESET_ALL_TESTS)
+    record_sim(request, records)
+    assert {r["test"] for r in records} == {"extremes", "reset_mid_line", "random_strobes"}
+    assert all(r["reset_all"] == 1 and r["x_data_cycles"] == 0 for r in records), records
+
+
+def test_bench_fails_on_the_round_quarter_mutant(request) -> None:
+    """The output rounding's constant a bit too low (a quarter LSB): the bench fails, every
+    error it reports is an intensity mismatch of a named job."""
+    records = _run(
+        "cosine_quadratic",
+        0,
+        testcase=["test_extremes"],
+        rtl=mutants.build("brdf_unit_round_quarter", SIM_BUILD / "mutants"),
+        expect_failure=True,
+    )
+    record_sim(request, records)
+    errors = [e for r in records for e in r["first_errors"]]
+    assert sum(r["errors"] for r in records) > 0 and errors, records
+    assert all("mismatch" in e and "'intensity'" in e and "reproduce with" in e for e in errors)
