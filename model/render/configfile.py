@@ -4,8 +4,8 @@
 Owns ``write_config`` (a ``PipelineConfig`` to a file), ``read_config`` (a file to a
 ``PipelineConfig``) and ``config_dict`` (the plain dictionary both go through).  ``shading fit``
 writes such a file into its bundle; ``shading demo --config FILE`` and ``read_config`` read it.
-May import the standard library's ``tomllib`` (``tomli`` before Python 3.11), ``tomli_w`` and
-``model.render.pipeline``.
+May import the standard library's ``tomllib`` (``tomli`` before Python 3.11), ``tomli_w``,
+``model.render.pipeline`` and ``model.units.brdf``.
 
 The file has one table per unit plus ``[pipeline]`` for the modes; every field may be left out
 (it then takes the default of ``PipelineConfig`` and the unit configurations), every field given
@@ -25,6 +25,10 @@ refuses raises ``ValueError`` naming the file, the field, the value and what is 
     [specular]
     k_ranges = [[1, 1000, 16]]      # (n_lo, n_hi, k) covering n = 1..1000
     rom_addr_bits = 9
+
+An optional ``[brdf]`` table (``form = "quadratic"``, widths) puts a BRDF family unit in place
+of the specular unit for the highlight (``PipelineConfig.brdf``); its angle formats are the
+``[specular]`` table's.
 """
 
 from __future__ import annotations
@@ -36,6 +40,7 @@ from pathlib import Path
 import tomli_w
 
 from model.render.pipeline import PipelineConfig
+from model.units.brdf import FixedConfig
 
 if sys.version_info >= (3, 11):
     import tomllib
@@ -44,7 +49,12 @@ else:  # pragma: no cover - Python 3.10
 
 UNIT_TABLES = ("divider", "gouraud", "specular")
 """The tables holding a unit configuration (the ``PipelineConfig`` fields of those names)."""
-TABLES = ("pipeline", *UNIT_TABLES)
+BRDF_TABLE = "brdf"
+"""The optional table of ``PipelineConfig.brdf`` (a BRDF family unit for the highlight): its
+``FixedConfig`` fields but ``angle``, which is the file's specular configuration."""
+TABLES = ("pipeline", *UNIT_TABLES, BRDF_TABLE)
+NOT_FIELDS = (*UNIT_TABLES, BRDF_TABLE, "angle")
+"""Fields no table sets directly: tables of their own, or (``angle``) taken from another."""
 HEADER = "# Shading pipeline configuration (model.render.configfile; docs/fit.md)\n"
 
 
@@ -64,6 +74,13 @@ def config_dict(cfg: PipelineConfig) -> dict[str, dict[str, object]]:
             out[f.name] = {
                 g.name: _plain(getattr(value, g.name)) for g in dataclasses.fields(value)
             }
+        elif f.name == BRDF_TABLE:
+            if value is not None:
+                out[f.name] = {
+                    g.name: _plain(getattr(value, g.name))
+                    for g in dataclasses.fields(value)
+                    if g.name not in NOT_FIELDS
+                }
         else:
             out["pipeline"][f.name] = _plain(value)
     return out
@@ -96,12 +113,13 @@ def _type_name(default: object) -> str:
     )
 
 
-def _build(path: Path, table: str, cls: type, given: object) -> object:
-    """An instance of ``cls`` (a frozen dataclass) from the file's table ``table``."""
+def _build(path: Path, table: str, cls: type, given: object, extra: dict | None = None) -> object:
+    """An instance of ``cls`` (a frozen dataclass) from the file's table ``table`` (and the
+    fields ``extra`` gives)."""
     if not isinstance(given, dict):
         raise ValueError(f"{path}: {table} = {given!r} is not legal: legal is a table")
     defaults = cls()
-    names = [f.name for f in dataclasses.fields(cls) if f.name not in UNIT_TABLES]
+    names = [f.name for f in dataclasses.fields(cls) if f.name not in NOT_FIELDS]
     kwargs: dict[str, object] = {}
     for key, value in given.items():
         if key not in names:
@@ -114,7 +132,9 @@ def _build(path: Path, table: str, cls: type, given: object) -> object:
                 f"{path}: {table}.{key} = {value!r} is not legal: legal is {_type_name(default)}"
             )
         kwargs[key] = float(value) if isinstance(default, float) else value
-    return kwargs if cls is PipelineConfig else _construct(path, table, cls, kwargs)
+    if cls is PipelineConfig:
+        return kwargs
+    return _construct(path, table, cls, {**kwargs, **(extra or {})})
 
 
 def _construct(path: Path, table: str, cls: type, kwargs: dict[str, object]) -> object:
@@ -147,4 +167,7 @@ def read_config(path: str | Path) -> PipelineConfig:
     for table in UNIT_TABLES:
         if table in doc:
             kwargs[table] = _build(path, table, type(units[table]), doc[table])
+    if BRDF_TABLE in doc:
+        angle = {"angle": kwargs.get("specular", units["specular"])}
+        kwargs[BRDF_TABLE] = _build(path, BRDF_TABLE, FixedConfig, doc[BRDF_TABLE], angle)
     return _construct(path, "pipeline", PipelineConfig, kwargs)

@@ -36,7 +36,11 @@ Methods (``METHODS``): the hybrid with the patent's k-set and a = sqrt(n/k), the
 thesis's inflection-matched a, the prototype's single cos^2 table, Gouraud only (the specular
 term evaluated at the vertices and interpolated with the diffuse one: no specular unit), the
 structure-adaptive method (the specular unit only on triangles the highlight test flags), and
-the hybrid with the diffuse term through the specular unit at n = 1 as well ("diffuse").
+the hybrid with the diffuse term through the specular unit at n = 1 as well ("diffuse");
+``BRDF_METHODS``: the hybrid with the highlight through a BRDF family unit.
+
+Size: about 530 lines: the five steps, the jobs every unit receives, the routes of the spans
+and the shader paths are one pipeline, which the co-simulations run step by step.
 """
 
 from __future__ import annotations
@@ -51,7 +55,9 @@ from model.render.reference import object_diffuse_flags
 from model.render.shade import ShadeContext, ShadeResult
 from model.render.spans import Spans
 from model.render.vectors import lighting_vectors
-from model.units import divider, gouraud, specular
+from model.units import brdf, divider, gouraud, specular
+from model.units.brdf import lines as brdf_lines
+from model.units.brdf import unit as brdf_unit
 
 SPECULAR_MODES = ("unit", "vertex", "adaptive")
 DIFFUSE_MODES = ("gouraud", "unit", "adaptive")
@@ -74,6 +80,12 @@ class PipelineConfig:
     on the triangles ``reference.object_diffuse_flags`` marks: vertex normals spread by more
     than ``diffuse_spread_deg`` degrees; Gouraud diffuse elsewhere).  The diffuse jobs need a
     specular unit that keeps n = 1 (``SpecularConfig.n_first`` = 1).
+
+    ``brdf``: None (the highlight through the patent's specular unit), or a ``brdf.FixedConfig``
+    of a form with RTL (``brdf.unit.RTL_FORMS``): the highlight jobs, with the same registers
+    (``specular.setup_lines`` in ``specular``'s formats, which the form's ``angle`` must share),
+    go through that BRDF unit instead (``brdf.lines.shade_lines``); the diffuse term is then
+    Gouraud's.
     """
 
     divider: divider.DividerConfig = divider.DEFAULT
@@ -83,8 +95,11 @@ class PipelineConfig:
     highlight_levels: float = 0.5
     diffuse_mode: str = "gouraud"
     diffuse_spread_deg: float = 10.0
+    brdf: brdf.FixedConfig | None = None
 
     def __post_init__(self) -> None:
+        if self.brdf is not None:
+            self._check_brdf()
         if self.specular_mode not in SPECULAR_MODES:
             raise ValueError(
                 f"specular_mode = {self.specular_mode!r} is out of range: legal values are "
@@ -123,6 +138,25 @@ class PipelineConfig:
                 f"highlight_levels = {self.highlight_levels} is out of range: legal is > 0"
             )
 
+    def _check_brdf(self) -> None:
+        brdf_unit.check_unit(self.brdf)
+        if self.specular_mode == "vertex" or self.diffuse_mode != "gouraud":
+            raise ValueError(
+                f"brdf = {self.brdf.form!r} is out of range with specular_mode = "
+                f"{self.specular_mode!r} and diffuse_mode = {self.diffuse_mode!r}: a BRDF unit "
+                "makes the highlight only; legal are specular_mode unit or adaptive with "
+                "diffuse_mode gouraud"
+            )
+        fields = ("c_int_bits", "c_frac_bits", "z_int_bits", "z_frac_bits", "len_width",
+                  "out_width")  # fmt: skip
+        for name in fields:
+            got, want = getattr(self.brdf.angle, name), getattr(self.specular, name)
+            if got != want:
+                raise ValueError(
+                    f"brdf angle {name} = {got} is out of range: the highlight registers come "
+                    f"in the specular configuration's formats, legal is {want}"
+                )
+
     @property
     def uses_specular_unit(self) -> bool:
         """True when some span may go through the specular unit (highlight or diffuse)."""
@@ -137,6 +171,12 @@ METHODS: dict[str, PipelineConfig] = {
     "adaptive": PipelineConfig(specular_mode="adaptive"),
     "diffuse": PipelineConfig(diffuse_mode="unit"),
 }
+BRDF_METHODS: dict[str, PipelineConfig] = {
+    form: PipelineConfig(brdf=cfg) for form, cfg in brdf_unit.UNIT_CONFIGS.items()
+}
+"""The hybrid with the highlight through a BRDF family unit (each form with RTL, its default
+widths) in place of the patent's specular unit: methods of ``shading demo``.  The shading core
+takes the patent's unit only, so these are not among ``METHODS``."""
 
 
 # ------------------------------------------------------------------------------------------------
@@ -385,11 +425,18 @@ def route_counters(
         "gouraud_cycles": channels * int((gouraud.cycles(intervals + 1, cfg.gouraud) + 1).sum()),
         "specular_jobs": int(spec_l.size),
         "specular_pixels": int((spec_l + 1).sum()),
-        "specular_cycles": int((specular.cycles(spec_l, cfg.specular) + 1).sum()),
+        "specular_cycles": int((_highlight_cycles(spec_l, cfg) + 1).sum()),
         "diffuse_jobs": int(diff_l.size),
         "diffuse_pixels": int((diff_l + 1).sum()),
         "diffuse_cycles": int((specular.cycles(diff_l, cfg.specular) + 1).sum()),
     }
+
+
+def _highlight_cycles(spec_l: np.ndarray, cfg: PipelineConfig) -> np.ndarray:
+    """Busy cycles of the highlight jobs on the unit that makes them (specular or BRDF)."""
+    if cfg.brdf is not None:
+        return np.asarray(brdf_unit.cycles(spec_l, cfg.brdf))
+    return np.asarray(specular.cycles(spec_l, cfg.specular))
 
 
 def run_units(jobs: UnitJobs, offsets: np.ndarray, cfg: PipelineConfig):
@@ -406,13 +453,14 @@ def run_units(jobs: UnitJobs, offsets: np.ndarray, cfg: PipelineConfig):
     g_out = np.zeros((npix, channels), dtype=np.int64)
     gouraud.shade_lines(jobs.i_start, di, jobs.intervals + 1, cfg.gouraud, out=g_out, at=starts)
     s_out = np.zeros(npix, dtype=np.int64)
-    specular.shade_lines(
+    highlight = specular.shade_lines if cfg.brdf is None else brdf_lines.shade_lines
+    highlight(
         jobs.spec_c,
         jobs.spec_dz,
         jobs.spec_z0,
         jobs.spec_n,
         jobs.intervals[jobs.spec_span],
-        cfg.specular,
+        cfg.specular if cfg.brdf is None else cfg.brdf,
         out=s_out,
         at=starts[jobs.spec_span],
     )
@@ -440,8 +488,9 @@ calls and ``assemble`` (the reference path: what the scene co-simulation runs)."
 
 def shade_pixels(jobs: UnitJobs, offsets: np.ndarray, cfg: PipelineConfig, path: str = "fused"):
     """Steps 2-5 for one object's jobs: the (pixels, C) uint8 image, by ``path``
-    (``SHADER_PATHS``); every path gives the same bytes."""
-    if path == "units":
+    (``SHADER_PATHS``); every path gives the same bytes (a BRDF unit's highlight has the
+    reference path only: the fused kernels hold the patent's unit)."""
+    if path == "units" or (cfg.brdf is not None and path in SHADER_PATHS):
         gouraud_out, specular_out, diffuse_out = run_units(jobs, offsets, cfg)
         return assemble(gouraud_out, specular_out, diffuse_out=diffuse_out)
     if path not in ("jobs", "fused", "threads"):
@@ -460,7 +509,7 @@ def unit_shader(cfg: PipelineConfig, path: str = "fused"):
 
     def shader(spans: Spans, ctx: ShadeContext) -> ShadeResult:
         rgb = None
-        if path in ("fused", "threads"):
+        if path in ("fused", "threads") and cfg.brdf is None:
             intervals, spec, diff = span_routes(spans, ctx, cfg)
             rgb = fused.shade_spans(
                 spans, spec, diff, ctx.material, ctx.lighting, cfg.divider, cfg.gouraud,

@@ -23,7 +23,7 @@ from tqdm import tqdm
 
 from model.render import pipeline, raster, reference, scene, scenefile, shade
 from model.study import images, metrics
-from model.units import specular
+from model.units import brdf, specular
 
 METHOD_LABELS: dict[str, str] = {
     "exact": "(a) exact Blinn, spherical interpolation (float)",
@@ -34,6 +34,8 @@ METHOD_LABELS: dict[str, str] = {
     "gouraud": "(f) units: Gouraud only",
     "adaptive": "(g) units: structure-adaptive",
     "diffuse": "(h) units: diffuse through the specular unit (n = 1)",
+    "cosine_quadratic": "(i) units: cosine-quadratic BRDF unit, no coefficient table",
+    "quadratic": "(j) units: quadratic BRDF unit, a per n",
 }
 FLOAT_SHADERS = {"exact": reference.exact_blinn, "phong": reference.phong}
 DEFAULT_SCENE = "teapot"
@@ -77,21 +79,29 @@ def shader_for(method: str, cfg: pipeline.PipelineConfig | None = None) -> shade
     if method in FLOAT_SHADERS:
         return FLOAT_SHADERS[method]
     if cfg is None:
-        if method not in pipeline.METHODS:
-            raise ValueError(
-                f"method = {method!r} is out of range: legal methods are {', '.join(METHOD_LABELS)}"
-            )
-        cfg = pipeline.METHODS[method]
+        cfg = method_config(method)
     return pipeline.unit_shader(cfg)
+
+
+def method_config(method: str) -> pipeline.PipelineConfig:
+    """The ``PipelineConfig`` of a units method (``pipeline.METHODS`` or ``BRDF_METHODS``)."""
+    found = {**pipeline.METHODS, **pipeline.BRDF_METHODS}.get(method)
+    if found is None:
+        raise ValueError(
+            f"method = {method!r} is out of range: legal methods are {', '.join(METHOD_LABELS)}"
+        )
+    return found
 
 
 def table_bits(method: str, cfg: pipeline.PipelineConfig | None = None) -> int:
     """ROM bits the method's units hold (0 for the float methods)."""
     if method in FLOAT_SHADERS:
         return 0
-    cfg = cfg or pipeline.METHODS[method]
+    cfg = cfg or method_config(method)
     bits = cfg.divider.rom_bits
-    if cfg.uses_specular_unit:
+    if cfg.brdf is not None:
+        bits += brdf.table_bits(cfg.brdf)["total"]
+    elif cfg.uses_specular_unit:
         bits += cfg.specular.rom_bits
     return bits
 
