@@ -8,11 +8,12 @@ version shipped), and the synthesised netlist proven equal to the RTL; the same
 for the segment Gouraud unit (--units gouraud_segment, model.hw.formal_gouraud), and the
 specular unit's protocol proof, covers and deliberate errors, its intensities proven equal to a
 reference formula and its netlist equivalence at a reduced configuration (--units
-specular_unit, model.hw.formal_specular), and the shading core's stream protocol (--units
-shading_core, model.hw.formal_core: the AXI4-Stream rules of both ports, l + 1 pixel beats per
-span beat with tlast on the last, no deadlock, no beat after reset).  The table is printed and
-written with every result to ``<out>/formal.json``.  Exit status 1 if a job does not give the
-outcome it requires, 2 on bad arguments or a missing tool.
+specular_unit, model.hw.formal_specular), the BRDF unit's protocol proof of both forms, its
+covers and deliberate errors (--units brdf_unit, model.hw.formal_brdf), and the shading
+core's stream protocol (--units shading_core, model.hw.formal_core: the AXI4-Stream rules of
+both ports, l + 1 pixel beats per span beat with tlast on the last, no deadlock, no beat after
+reset).  The table is printed and written with every result to ``<out>/formal.json``.  Exit
+status 1 if a job does not give the outcome it requires, 2 on bad arguments or a missing tool.
 
     python scripts/formal.py                    # everything (make formal)
     python scripts/formal.py --quick            # the subset make test runs
@@ -31,7 +32,7 @@ from pathlib import Path
 from model.hw import formal
 
 ROOT = Path(__file__).resolve().parent.parent
-UNITS = ("divider_shift", "gouraud_segment", "specular_unit", "shading_core")
+UNITS = ("divider_shift", "gouraud_segment", "specular_unit", "brdf_unit", "shading_core")
 
 
 def parse(argv: list[str] | None) -> argparse.Namespace:

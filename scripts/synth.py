@@ -7,13 +7,14 @@ of several files, the shading core, its parameters made above ``model.hw``): Yos
 with a fixed seed (1, or the run's own in model.hw.parts.SEEDS); results cached in
 out/synth/cache/; ``--jobs N`` runs N at a time (threads, each waiting on its tools).  With no
 selection the default set runs: every unit and the core at its default configuration on every
-part, plus the specular unit's UP5K configuration on the UP5K
+part (the BRDF unit: each form), plus the specular unit's UP5K configuration on the UP5K
 and the core's hybrid configuration on the ECP5-25F; every Fmax target is in it (docs/fpga.md,
 "Synthesis").  Exit status 1 if a target is missed or a design that must fit
 does not, 2 if a tool fails.
 
     python scripts/synth.py                                   # the default set
     python scripts/synth.py --units specular_unit --parts up5k --config up5k
+    python scripts/synth.py --units brdf_unit --jobs 1        # both forms, every part
     python scripts/synth.py --units shading_core --parts ecp5-25f --config default hybrid
     python scripts/synth.py --jobs 2 --out out/synth --record docs/synth.json
 """
@@ -29,6 +30,7 @@ from pathlib import Path
 
 from model.hw import PARTS, UNITS, SynthError, SynthResult, default_runs, report, synthesise
 from model.hw.parts import SEEDS
+from model.hw.synth import every_part_configs
 from sim import synth_tops
 
 NAMES = [*UNITS, *synth_tops.TOPS]
@@ -62,15 +64,17 @@ def runs_of(args: argparse.Namespace) -> list[tuple[str, str, str]]:
     for part in parts or ():
         if part not in PARTS:
             raise ValueError(f"part {part!r} is unknown: known parts are {', '.join(PARTS)}")
-    units, parts, configs = units or NAMES, parts or list(PARTS), configs or ["default"]
+    units, parts = units or NAMES, parts or list(PARTS)
     known = {c for u in units for c in configs_of(u)}
-    for config in configs:
+    for config in configs or ():
         if config not in known:
             raise ValueError(
                 f"config {config!r} is unknown for {', '.join(units)}: named configurations "
                 f"are {', '.join(sorted(known))}"
             )
-    return [(u, c, p) for u in units for c in configs if c in configs_of(u) for p in parts]
+    # without --config: each unit's "default" (the BRDF unit: each form)
+    chosen = {u: configs or every_part_configs(u) for u in units}
+    return [(u, c, p) for u in units for c in chosen[u] if c in configs_of(u) for p in parts]
 
 
 def main(argv: list[str] | None = None) -> int:

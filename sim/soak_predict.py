@@ -29,10 +29,12 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from model.units import divider, gouraud, specular
+from model.units import brdf, divider, gouraud, specular
+from model.units.brdf import FixedConfig
+from model.units.brdf.unit import scale_kernel
 from model.units.divider import DividerConfig
 from model.units.gouraud import GouraudConfig
-from model.units.specular import SpecularConfig
+from model.units.specular import N_MAX, SpecularConfig
 from sim import units
 from sim.protocol import Job, Stats, UnitSpec
 from sim.soak_stimulus import MAX_BITS, Stimulus
@@ -86,10 +88,12 @@ def timing(cfg: units.UnitConfig) -> Timing:
         keys = np.arange(cfg.len_max + 1)
         busy = np.asarray(gouraud.cycles(keys, cfg), dtype=np.int64)
         first, count = np.ones_like(busy), busy.copy()
-    elif isinstance(cfg, SpecularConfig):
+    elif isinstance(cfg, SpecularConfig | FixedConfig):
+        # the BRDF unit (a FixedConfig) runs the specular unit's line: fill, then l + 1 results
         key = names.index("len")
-        keys = np.arange(cfg.len_max + 1)
-        busy = np.asarray(specular.cycles(keys, cfg), dtype=np.int64)
+        model, fmt = (specular, cfg) if isinstance(cfg, SpecularConfig) else (brdf, cfg.angle)
+        keys = np.arange(fmt.len_max + 1)
+        busy = np.asarray(model.cycles(keys, cfg), dtype=np.int64)
         first, count = busy - keys, keys + 1
     else:
         raise TypeError(f"no unit has a configuration of type {type(cfg).__name__}")
@@ -163,6 +167,45 @@ def _n_valid(cfg: SpecularConfig) -> np.ndarray:
     return np.array([specular.n_valid(n, cfg) for n in range(1 << units.N_WIDTH)])
 
 
+@njit(cache=True)
+def _brdf_scale_kernel(
+    words: np.ndarray, c: np.ndarray, ok: np.ndarray, base: np.ndarray, shift: int,
+    out_max: int, out: np.ndarray,
+) -> None:  # fmt: skip
+    """Each job with n in 1..1000: its pixels' output words x C, rounded and saturated
+    (``scale_kernel``, as ``brdf.unit_line``); the others' pixels stay 0."""
+    for j in range(c.size):
+        if ok[j]:
+            a, b = base[j], base[j + 1]
+            scale_kernel(words[a:b], c[j], shift, out_max, out[a:b])
+
+
+def _brdf_results(
+    cfg: FixedConfig, job_ops: np.ndarray, base: np.ndarray, counts: np.ndarray
+) -> np.ndarray:
+    """The BRDF unit's (intensity, n_err) rows of every job: zeta(i) = z0 + i dz per pixel
+    (exact in int64: the accumulator never wraps), the form's word from ``brdf.evaluate`` once
+    per n over all pixels of the jobs with that n, then x C per job."""
+    c, dz, z0, n = (np.ascontiguousarray(job_ops[:, i]) for i in range(4))
+    total = int(base[-1])
+    ok = (n >= 1) & (n <= N_MAX)
+    step = np.arange(total, dtype=np.int64) - np.repeat(base[:-1], counts)
+    zeta = np.repeat(z0, counts) + step * np.repeat(dz, counts)
+    pixel_n = np.where(np.repeat(ok, counts), np.repeat(n, counts), 0)
+    words = np.zeros(total, dtype=np.int64)
+    order = np.argsort(pixel_n, kind="stable")
+    values, first = np.unique(pixel_n[order], return_index=True)
+    ends = [*first[1:].tolist(), total]
+    for v, a, b in zip(values.tolist(), first.tolist(), ends, strict=True):
+        if v:
+            at = order[a:b]
+            words[at] = brdf.evaluate(cfg, zeta[at], v)
+    out = np.zeros(total, dtype=np.int64)
+    a = cfg.angle
+    _brdf_scale_kernel(words, c, ok, base, a.c_frac_bits + cfg.out_bits, a.out_max, out)
+    return np.stack([out, np.repeat((~ok).astype(np.int64), counts)], axis=1)
+
+
 def results(cfg: units.UnitConfig, job_ops: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(``base``, ``table``): job j's results are rows ``base[j] : base[j + 1]`` of ``table``,
     one column per ``columns(cfg)``, from the golden model for all jobs in one call."""
@@ -183,6 +226,8 @@ def results(cfg: units.UnitConfig, job_ops: np.ndarray) -> tuple[np.ndarray, np.
         i0, di, length = (np.ascontiguousarray(job_ops[:, i]) for i in range(3))
         _gouraud_kernel(i0, di, length, base, cfg.p, cfg.round_bias, cfg.i_frac, cfg.out_max, table)
         return base, table
+    if isinstance(cfg, FixedConfig):
+        return base, _brdf_results(cfg, job_ops, base, counts)
     c, dz, z0, n, length = (np.ascontiguousarray(job_ops[:, i]) for i in range(5))
     ok = _n_valid(cfg)[n] if len(n) else np.zeros(0, dtype=bool)
     values = np.zeros(total, dtype=np.int64)

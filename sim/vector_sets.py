@@ -41,7 +41,7 @@ import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from model.units import divider, gouraud, specular
+from model.units import brdf, divider, gouraud, specular
 from model.units.gouraud import GouraudConfig
 from sim import soak, soak_file, soak_predict, soak_stimulus, units, vector_run
 from sim.runner import RTL_DIR, unit_parameters
@@ -54,7 +54,8 @@ DEFAULT_CYCLES = 3000
 OTHER_CYCLES = 1500
 FILES = ("vectors.bin", "params.txt", "manifest.json")
 
-# Set name -> (configuration, cycles): every unit at its default configuration and a few others.
+# Set name -> (configuration, cycles): every unit at its default configuration (the BRDF unit:
+# each form with RTL at its default widths) and a few others.
 SETS: dict[str, tuple[units.UnitConfig, int]] = {
     "divider_default": (divider.DEFAULT, DEFAULT_CYCLES),
     "divider_n4": (divider.ROM_CONFIGS["n4"], OTHER_CYCLES),
@@ -64,6 +65,8 @@ SETS: dict[str, tuple[units.UnitConfig, int]] = {
     "specular_default": (specular.DEFAULT, DEFAULT_CYCLES),
     "specular_narrow": (specular.NARROW, OTHER_CYCLES),
     "specular_up5k": (specular.UP5K, OTHER_CYCLES),
+    "brdf_cosine_quadratic": (brdf.UNIT_CONFIGS["cosine_quadratic"], DEFAULT_CYCLES),
+    "brdf_quadratic": (brdf.UNIT_CONFIGS["quadratic"], DEFAULT_CYCLES),
 }
 
 

@@ -11,7 +11,10 @@ the protocol properties proven by k-induction, every cover reached, the valid_ex
 failing on its mutant.  The specular unit's (``model.hw.formal_specular``, default
 configuration): its protocol properties proven by k-induction, every cover reached, the
 n_err_of_the_line property failing on its mutant; and at its small configuration every
-intensity proven equal to the reference formula (formal/specular_unit_datapath.v).
+intensity proven equal to the reference formula (formal/specular_unit_datapath.v).  The BRDF
+unit's (``model.hw.formal_brdf``, the cosine-quadratic form at its default widths): its
+protocol properties proven by k-induction, every cover reached, the n_err_of_the_line property
+failing on its mutant.
 Also: the property files, the mutants and docs/formal.md agree, and bad input to the Python calls
 and the command line is refused with a message naming it.
 """
@@ -26,12 +29,13 @@ from pathlib import Path
 
 import pytest
 
-from model.hw import formal, formal_core, formal_gouraud, formal_specular
+from model.hw import formal, formal_brdf, formal_core, formal_gouraud, formal_specular
 
 ROOT = Path(__file__).resolve().parent.parent
 PROPS = ROOT / "formal" / "divider_shift_props.v"
 GOURAUD_PROPS = ROOT / "formal" / "gouraud_segment_props.v"
 SPECULAR_PROPS = ROOT / "formal" / "specular_unit_props.v"
+BRDF_PROPS = ROOT / "formal" / "brdf_unit_props.v"
 CORE_PROPS = ROOT / "formal" / "shading_core_props.v"
 AXIS_PROPS = ROOT / "formal" / "axis_props.v"
 DOC = ROOT / "docs" / "formal.md"
@@ -51,6 +55,8 @@ def quick(tmp_path_factory) -> dict[str, formal.FormalResult]:
     for job in formal.jobs("gouraud_segment", quick=True):
         results[job.name] = formal.run_job(job, out)
     for job in formal.jobs("specular_unit", quick=True):
+        results[job.name] = formal.run_job(job, out)
+    for job in formal.jobs("brdf_unit", quick=True):
         results[job.name] = formal.run_job(job, out)
     for job in formal.jobs("shading_core", quick=True):
         results[job.name] = formal.run_job(job, out)
@@ -100,6 +106,29 @@ def test_quick_gouraud_protocol_covers_and_mutant(quick) -> None:
 def test_quick_specular_protocol_covers_and_mutant(quick) -> None:
     check_unit_quick(quick, "specular_unit", "default", formal_specular,
                      formal_specular.PROTOCOL, "n_err_leak", "n_err_of_the_line")  # fmt: skip
+
+
+def test_quick_brdf_protocol_covers_and_mutant(quick) -> None:
+    check_unit_quick(quick, "brdf_unit", "cosine_quadratic", formal_brdf, formal_brdf.PROTOCOL,
+                     "n_err_leak", "n_err_of_the_line")  # fmt: skip
+
+
+def test_brdf_property_file_mutants_and_doc_agree() -> None:
+    """The BRDF unit's property file, mutants, helper wires and docs/formal.md agree; make
+    formal proves both forms, each with RESET_ALL 0 and 1, and runs every mutant."""
+    m = formal_brdf
+    full = check_property_file(BRDF_PROPS, m, "brdf_unit", [*m.PROPERTIES, *m.COVERS])
+    assert {j.kind for j in full} == {"prove", "cover", "mutant"}
+    proofs = {(j.config, j.reset_all) for j in full if j.kind == "prove"}
+    assert proofs == {(form, r) for form in m.CONFIGS for r in (0, 1)}
+    assert {j.mutant for j in full if j.kind == "mutant"} == set(m.MUTANTS)
+    # the fill latency the property file counts is the model's
+    from model.units import brdf
+
+    text = BRDF_PROPS.read_text()
+    for cfg in m.CONFIGS.values():
+        assert re.search(rf"\bFILL = {brdf.fill_latency(cfg)};", text)
+        assert re.search(rf"\bLAST_STAGE = {brdf.fill_latency(cfg) - 1};", text)
 
 
 def test_quick_specular_intensities_are_proven_at_small(quick) -> None:
@@ -280,7 +309,7 @@ def test_quick_specular_kept_range_protocol_is_proven(quick) -> None:
 
 
 # Every mutant job of make formal, and its RESET_ALL = 1 proofs (the slow tier, so CI runs them)
-FORMAL_UNITS = ("divider_shift", "gouraud_segment", "specular_unit", "shading_core")
+FORMAL_UNITS = ("divider_shift", "gouraud_segment", "specular_unit", "brdf_unit", "shading_core")
 MUST_FAIL = {
     j.name: j
     for u in FORMAL_UNITS
@@ -307,8 +336,9 @@ def test_the_slow_tier_runs_every_mutant_and_reset_all_proof() -> None:
     """Every unit's mutants and its RESET_ALL = 1 proofs are in MUST_FAIL."""
     modules = {"divider_shift": formal, "gouraud_segment": formal_gouraud}
     modules |= {"specular_unit": formal_specular, "shading_core": formal_core}
+    modules |= {"brdf_unit": formal_brdf}
     for unit, module in modules.items():
         names = {j.mutant for j in MUST_FAIL.values() if j.unit == unit and j.kind == "mutant"}
         assert names == set(module.MUTANTS), unit
     proofs = {j.unit for j in MUST_FAIL.values() if j.kind == "prove"}
-    assert proofs == {"divider_shift", "gouraud_segment", "specular_unit"}
+    assert proofs == {"divider_shift", "gouraud_segment", "specular_unit", "brdf_unit"}

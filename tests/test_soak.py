@@ -5,28 +5,30 @@ Random strobes, start timing and resets, writes in the start cycle and in busy c
 across 0 and at the extremes (sim/soak.py); every output is compared with the protocol model
 in every cycle.  The seed is printed in the run's summary; ``SOAK_SEED=<seed>`` replays a run.
 Saved mutants must fail it: the div_zero defect the released divider shipped, naming div_zero,
-and a wrong RESET_ALL = 1 reset value of q, in that instance only (each RESET_ALL instance is
-held to its own prediction).
+a wrong RESET_ALL = 1 reset value of q, in that instance only (each RESET_ALL instance is
+held to its own prediction), and the BRDF unit's output rounding by a quarter LSB, naming
+intensity and a job whose operands give the expected value through ``brdf.unit_line``.
 Each unit's default configuration soaks deep (``DEEP_CYCLES``: most of the results ``make test``
-compares), the other configurations 20k cycles, and ``make test-slow`` soaks each default
-configuration for ``LONG_CYCLES`` (10M); ``SOAK_CYCLES=<n>`` gives every soak n cycles instead
-(any length: a long soak runs as segments of 1M cycles, sim/soak.py).  They run under
-``verilator --binary`` when it is on PATH (``make test`` installs it; one build per
-configuration, kept in sim_build/vector_builds/ for the next run, sim/vector_run.py), else
-Icarus; ``SOAK_SIM=icarus|verilator`` picks one.  Icarus replays every committed vector set in
-tests/test_vectors.py.
+compares), the other configurations and each form of the BRDF unit 20k cycles, and
+``make test-slow`` soaks each default configuration for ``LONG_CYCLES`` (10M);
+``SOAK_CYCLES=<n>`` gives every soak n cycles instead (any length: a long soak runs as
+segments of 1M cycles, sim/soak.py).  They run under ``verilator --binary`` when it is on PATH
+(``make test`` installs it; one build per configuration, kept in sim_build/vector_builds/ for
+the next run, sim/vector_run.py), else Icarus; ``SOAK_SIM=icarus|verilator`` picks one.
+Icarus replays every committed vector set in tests/test_vectors.py.
 """
 
 from __future__ import annotations
 
 import os
 import random
+import re
 import shutil
 from pathlib import Path
 
 import pytest
 
-from model.units import divider, gouraud, specular
+from model.units import brdf, divider, gouraud, specular
 from sim import soak, vector_run
 from sim.runner import SIM_BUILD, env_seed, unit_parameters
 from tests import mutants
@@ -57,6 +59,9 @@ CONFIGS = {
     # and the UP5K tables
     "specular_kept": (specular.KEPT, SHORT_SOAK),
     "specular_up5k": (specular.UP5K, SHORT_SOAK),
+    # the BRDF unit: each form with RTL at its default widths
+    "brdf_cosine_quadratic": (brdf.UNIT_CONFIGS["cosine_quadratic"], SHORT_SOAK),
+    "brdf_quadratic": (brdf.UNIT_CONFIGS["quadratic"], SHORT_SOAK),
 }
 
 
@@ -172,6 +177,45 @@ def test_soak_finds_the_div_zero_leak(request) -> None:
     assert any("write in the start cycle" in m for m in result.mismatches), result.mismatches
 
 
+# A mismatch line of the soak (sim/soak.py ``_describe``) for an intensity output: in a valid
+# cycle it names the job, between results the job whose last result the output holds.
+INTENSITY_MISMATCH = re.compile(
+    r"^RESET_ALL = [01], cycle (\d+): intensity = (\d+), expected (\d+) \(valid expected "
+    r"([01])\); (?:job|the result held from job) with inputs c=(\d+), dz=(-?\d+), "
+    r"z0=(-?\d+), n=(\d+), len=(\d+) \(started at cycle (\d+)"
+)
+
+
+def test_soak_finds_the_brdf_round_quarter_mutant() -> None:
+    """The BRDF unit rounding C * F with a quarter of the output LSB instead of a half fails the
+    soak in both RESET_ALL instances; every mismatch names intensity, one LSB low, and the job
+    it reports reproduces the expected value through ``brdf.unit_line`` of its operands: in a
+    valid cycle pixel (cycle - start cycle - fill latency), between results the line's last
+    pixel (the held result)."""
+    cfg = brdf.UNIT_CONFIGS["cosine_quadratic"]
+    seed = soak_seed()
+    result = soak.run_soak(
+        cfg,
+        SHORT_SOAK,
+        seed,
+        SIM_BUILD / "soak_brdf_mutant",
+        unit_parameters(cfg),
+        rtl=mutants.build("brdf_unit_round_quarter", SIM_BUILD / "mutants"),
+        sim=soak_sim(),
+        build_root=SIM_BUILD / "vector_builds",
+    )
+    assert result.mismatch_count > 0, f"the mutant passed the soak (SOAK_SEED={seed})"
+    assert {m[:14] for m in result.mismatches} == {"RESET_ALL = 0,", "RESET_ALL = 1,"}
+    for text in result.mismatches:
+        m = INTENSITY_MISMATCH.match(text)
+        assert m, f"{text} (SOAK_SEED={seed})"
+        cycle, got, want, valid, c, dz, z0, n, length, started = (int(v) for v in m.groups())
+        assert got == want - 1, text
+        values, n_err = brdf.unit_line(c, dz, z0, n, length, cfg)
+        pixel = cycle - started - brdf.fill_latency(cfg) if valid else length
+        assert n_err == 0 and 0 <= pixel <= length and values[pixel] == want, text
+
+
 def test_soak_holds_reset_all_1_to_its_own_reset_values() -> None:
     """A divider whose RESET_ALL = 1 reset sets q to all ones fails the soak in the RESET_ALL = 1
     instance only, naming q = -1 (expected 0) in the first reset cycle: each instance is
@@ -220,7 +264,8 @@ def test_soak_cycles_come_from_the_environment(monkeypatch) -> None:
 
 def test_vector_words_round_trip() -> None:
     """The packing the Verilog benches decode: field order and widths, signed fields."""
-    for cfg in (divider.DEFAULT, gouraud.DEFAULT, specular.DEFAULT):
+    brdf_cfg = brdf.UNIT_CONFIGS["quadratic"]
+    for cfg in (divider.DEFAULT, gouraud.DEFAULT, specular.DEFAULT, brdf_cfg):
         spec = soak.units.spec(cfg)
         fields = soak.stim_fields(spec)
         stim = soak.stimulus(cfg, 200, seed=7)

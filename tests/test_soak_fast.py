@@ -9,7 +9,8 @@
   byte;
 * the stimulus is a function of its seed and segment and draws what the soak is for: the
   extremes, values next to 0, powers of two of either sign, writes in start and busy cycles,
-  resets of 1 to 3 cycles, the specular unit's n at its edges and inside a kept range.
+  resets of 1 to 3 cycles, the specular unit's n at its edges and inside a kept range, the
+  BRDF unit's n at the edges of 1..1000 and of the register.
 """
 
 from __future__ import annotations
@@ -20,11 +21,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from model.units import divider, specular
-from sim import soak, soak_file, soak_predict, soak_stimulus, units
+from model.units import brdf, divider, specular
+from sim import soak, soak_file, soak_predict, soak_stimulus, units, vector_sets
 from tests.test_soak import CONFIGS
 
 CYCLES = 4000
+ROOT = Path(__file__).resolve().parent.parent
 
 
 def _counts(stats: soak.Stats) -> dict[str, int]:
@@ -124,3 +126,29 @@ def test_stimulus_draws_what_the_soak_is_for() -> None:
     lengths = stim.value[:, -1][stim.we[:, -1] == 1]
     assert length.name == "len" and lengths.max() == kept.len_max
     assert np.mean(lengths <= soak_stimulus.SHORT_LINE) > 0.9
+
+    cfg = brdf.UNIT_CONFIGS["quadratic"]
+    stim = soak_stimulus.stimulus(cfg, 20_000, seed=5)
+    n_col = [p.name for p in units.spec(cfg).operands].index("n")
+    n = set(stim.value[:, n_col][stim.we[:, n_col] == 1].tolist())
+    assert {0, 1, 2, specular.N_MAX, specular.N_MAX + 1, 1023} <= n, sorted(n)
+    assert len(n & set(range(3, specular.N_MAX))) > 100  # and inside the range
+
+
+def _figure(value: int) -> str:
+    """A count as the pages write it: 3000, 20 000."""
+    return str(value) if value < 10_000 else f"{value:,}".replace(",", " ")
+
+
+def test_brdf_data_sheet_states_the_soaks_and_sets() -> None:
+    """docs/brdf_unit.md's soak paragraph: the cycles each form soaks (``CONFIGS``), the n the
+    stimulus favours (``draw_plan``) and the committed sets' cycles (``vector_sets.SETS``)."""
+    page = " ".join((ROOT / "docs" / "brdf_unit.md").read_text().split())
+    soaks = {CONFIGS[f"brdf_{form}"][1] for form in brdf.UNIT_CONFIGS}
+    sets = {vector_sets.SETS[f"brdf_{form}"][1] for form in brdf.UNIT_CONFIGS}
+    assert len(soaks) == len(sets) == 1
+    assert f"for {_figure(soaks.pop())} cycles through the plain-Verilog bench" in page
+    assert f"({_figure(sets.pop())} cycles each, `make vectors`)" in page
+    edges = [int(v) for v in soak_stimulus.draw_plan(CONFIGS["brdf_quadratic"][0]).n_edges]
+    listed = ", ".join(map(str, edges[:-1])) + f" and {edges[-1]}"
+    assert f"n at {listed} and across the register" in page

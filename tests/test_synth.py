@@ -3,13 +3,15 @@
 and docs/synth.json recorded from the current RTL, ROM images and parameters.
 
 The real run is the divider at its article configuration (9-bit dividend, 5-bit divisor) on the
-iCE40 HX8K: a few seconds with the yowasp tools, into a fresh cache folder.  The shading core (a
+iCE40 HX8K: a few seconds with the yowasp tools, into a fresh cache folder; a narrow BRDF unit
+(a configuration of its own, its ROM images generated) runs on the ECP5-25F.  The shading core (a
 top of several files, its parameters from sim.synth_tops) is placed and routed in the slow tier;
 the quick tier checks its wrapper, its cell count and its refusals.
 """
 
 from __future__ import annotations
 
+import importlib.util
 import json
 import subprocess
 import sys
@@ -24,7 +26,7 @@ from model.hw.sources import source_list
 from model.hw.wrapper import ports, wrapper_verilog
 from model.render.core import PixelFormat, SpanFormat
 from model.render.pipeline import METHODS
-from model.units import divider
+from model.units import brdf, divider
 from sim import synth_tops
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -130,6 +132,9 @@ def test_wrapper_reads_the_ports_from_the_rtl() -> None:
         (("divider_shift", None, "xc9"), ["'xc9'", "up5k", "ecp5-25f"]),
         (("divider_shift", "up5k", "hx8k"), ["'up5k'", "default", "article"]),
         (("gouraud_segment", divider.DEFAULT, "hx8k"), ["DividerConfig", "GouraudConfig"]),
+        (("brdf_unit", "default", "hx8k"), ["'default'", "cosine_quadratic, quadratic"]),
+        (("brdf_unit", divider.DEFAULT, "hx8k"), ["DividerConfig", "FixedConfig"]),
+        (("brdf_unit", brdf.FixedConfig("cubic"), "hx8k"), ["'cubic'", "RTL"]),
     ],
 )
 def test_bad_input_is_refused(args: tuple, words: list[str]) -> None:
@@ -169,6 +174,12 @@ def test_every_target_is_in_the_default_runs() -> None:
     # without the tops: the units' runs only, as before the core
     assert {u for u, _, _ in default_runs()} == set(UNITS)
     assert ("shading_core", "hybrid", "ecp5-25f") in runs
+    # the BRDF unit has no "default": each form on every part
+    brdf_runs = {(c, p) for u, c, p in runs if u == "brdf_unit"}
+    assert brdf_runs == {(c, p) for c in brdf.UNIT_CONFIGS for p in PARTS}
+    assert hw_synth.config_named("brdf_unit", None) == (
+        "cosine_quadratic", brdf.UNIT_CONFIGS["cosine_quadratic"],
+    )  # fmt: skip
 
 
 def test_the_record_is_current(teapot_file) -> None:
@@ -203,11 +214,18 @@ def test_every_unit_gets_a_wrapper(unit: str) -> None:
 
 
 def test_the_units_synthesise_their_listed_files() -> None:
-    """A unit's rtl/<unit>.f names its own file first, then the ROM module the divider and the
-    specular unit instantiate; the run reads exactly those files and hashes their bytes."""
+    """A unit's rtl/<unit>.f names its own file first, then its submodules (the BRDF unit's form
+    datapaths and rounding) and the ROM module the divider, the specular unit and the BRDF unit
+    instantiate; the run reads exactly those files and hashes their bytes."""
+    below = {
+        "gouraud_segment": [],
+        "brdf_unit": [
+            "brdf_cosine_quadratic.v", "brdf_quadratic.v", "brdf_round.v", "shading_rom.v",
+        ],
+    }  # fmt: skip
     for unit in UNITS:
-        rom = ["shading_rom.v"] if unit != "gouraud_segment" else []
-        listed = [(hw_synth.RTL_DIR / name).resolve() for name in [f"{unit}.v", *rom]]
+        files = [f"{unit}.v", *below.get(unit, ["shading_rom.v"])]
+        listed = [(hw_synth.RTL_DIR / name).resolve() for name in files]
         assert source_list(unit) == listed
         assert list(hw_synth.rtl_sources(unit)) == [p.name for p in listed]
         params = hw_synth.synth_parameters(unit, hw_synth.config_named(unit, None)[1])
@@ -311,6 +329,126 @@ def test_the_specular_page_quotes_the_record(row: str, config: str, part: str) -
     assert cells[2] == f"{r.fmax_mhz:.1f} MHz" and cells[3] == f"{r.target_mhz:g} MHz"
     assert (cells[4], cells[5]) == (str(r.lut), str(r.ff))
     assert cells[6].startswith(f"{r.bram} ") and cells[7].startswith(f"{r.dsp} ")
+
+
+def _brdf_script():
+    spec = importlib.util.spec_from_file_location("brdf_unit_script", ROOT / "scripts/brdf_unit.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_brdf_page_carries_the_recorded_resources() -> None:
+    """docs/brdf_unit.md's Resources table is what python scripts/brdf_unit.py --resources prints
+    from docs/synth.json, and each statement of its list holds in the record."""
+    script = _brdf_script()
+    page = (ROOT / "docs" / "brdf_unit.md").read_text()
+    begin = "<!-- resources: python scripts/brdf_unit.py --resources -->\n"
+    shown = page[page.index(begin) + len(begin) : page.index("<!-- end of resources -->")]
+    assert shown == script.resources(RECORD), "stale: python scripts/brdf_unit.py --resources"
+    results = report.load(RECORD)
+    row = {(r.unit, r.config, r.part): r for r in results}
+    forms = list(brdf.UNIT_CONFIGS)
+    for part in PARTS:
+        spec = row["specular_unit", "default", part]
+        placed = [x for x in (spec, row.get(("specular_unit", "up5k", part))) if x and x.fmax_mhz]
+        cq, q = (row["brdf_unit", form, part] for form in forms)
+        for r in (cq, q):
+            assert r.fits and r.ok, r  # both forms fit every part, targets met
+            assert r.bram < spec.bram and r.ff > spec.ff  # fewer block RAMs, more flip-flops
+            if PARTS[part].dsp and part != "gw1nr-9":
+                assert r.dsp > spec.dsp  # more DSP blocks where the part has them
+            if PARTS[part].dsp == 0:
+                assert r.dsp == 0
+            for other in placed:  # slower wherever both are placed
+                assert r.fmax_mhz < other.fmax_mhz, (r, other)
+        assert cq.lut < q.lut and cq.ff < q.ff and cq.bram < q.bram  # the cheaper form
+    for part in ("up5k", "hx8k"):
+        assert not row["specular_unit", "default", part].fits
+    spec_target = {k[2]: v for k, v in TARGETS.items() if k[0] == "specular_unit"}
+    for form in forms:  # the specular unit's targets where met, floors below them elsewhere
+        for part, goal in spec_target.items():
+            r = row["brdf_unit", form, part]
+            assert r.target_mhz <= goal and (r.target_mhz == goal) == (r.fmax_mhz >= goal)
+    assert row["brdf_unit", "cosine_quadratic", "up5k"].target_mhz == spec_target["up5k"]
+    hardware = brdf.format_hardware()  # the cost table the list cites: 3 multipliers against 2
+    assert "base x base (25 x 25)" in hardware and "c x (1 - a w) (21 x 25)" in hardware
+    for unit, count in [(f"brdf_unit, {f}", 3) for f in forms] + [("specular_unit (the", 2)]:
+        (line,) = [ln for ln in hardware.splitlines() if ln.startswith(f"| {unit}")]
+        assert line.split(" | ")[1].startswith(f"{count}: "), line
+
+
+def test_the_brdf_resources_refuse_a_bad_record(tmp_path: Path) -> None:
+    script = _brdf_script()
+    with pytest.raises(ValueError, match="does not exist"):
+        script.resources(tmp_path / "none.json")
+    results = report.load(RECORD)
+    with pytest.raises(ValueError, match=r"unit 'brdf_unit' has no row in the record: it holds"):
+        report.beside([r for r in results if r.unit != "brdf_unit"], "brdf_unit", script.BASE)
+    with pytest.raises(ValueError, match=r"base \('specular_unit', 'default'\) has no row on up5k"):
+        report.beside(
+            [r for r in results if r.part != "up5k" or r.unit != "specular_unit"],
+            "brdf_unit",
+            script.BASE,
+        )
+
+
+def test_a_small_brdf_unit_places_and_routes(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The BRDF unit through the whole flow, cheaply: the quadratic form at narrow widths (a
+    64-word angle table, 10-bit coefficients: a configuration of its own, so both ROM images are
+    generated into the cache's folder) on the ECP5-25F, a few seconds."""
+    monkeypatch.setenv("SYNTH_CACHE", str(tmp_path / "cache"))
+    cfg = brdf.FixedConfig("quadratic", cos_addr_bits=6, cos_data_bits=8, coef_bits=10,
+                           work_bits=8, out_bits=6)  # fmt: skip
+    r = synthesise("brdf_unit", cfg, "ecp5-25f", seed=1)
+    params = dict(r.params)
+    assert (r.unit, r.config, r.part) == ("brdf_unit", "custom", "ecp5-25f")
+    assert params["FORM"] == "quadratic" and params["COS_ADDR_BITS"] == 6
+    for name in ("ANGLE_ROM_FILE", "COEF_ROM_FILE"):
+        assert (tmp_path / "roms" / params[name]).is_file(), params[name]
+    assert (tmp_path / "roms" / params["COEF_ROM_FILE"]).read_text() == brdf.rom_text(cfg, "coef")
+    util = {k: (u, a) for k, u, a in r.utilisation}
+    assert r.fits and r.overflow == "" and r.target_mhz is None and r.ok
+    assert util["DP16KD"][0] == r.bram >= 1 and util["MULT18X18D"][0] == r.dsp >= 3
+    assert util["TRELLIS_IO"][0] == 6 and 100 <= r.lut <= 2000 and 100 <= r.ff <= 1000
+    assert 50 <= r.fmax_mhz <= 400 and r.path_ns == pytest.approx(1000 / r.fmax_mhz, rel=0.15)
+
+
+def test_the_slowest_clock_gives_the_critical_path() -> None:
+    """nextpnr-ice40 reports a second clock for a DSP whose clock pin is tied to ground (the
+    BRDF unit's UP5K runs): Fmax and the path are the slower, real clock's."""
+
+    def path(cell_from: str, cell_to: str, ns: float) -> list[dict]:
+        return [{"from": {"cell": cell_from}, "to": {"cell": cell_to}, "delay": ns}]
+
+    rep = {
+        "fmax": {"gnd": {"achieved": 317.0}, "clk": {"achieved": 41.5}},
+        "critical_paths": [
+            {"from": "posedge gnd", "to": "posedge gnd", "path": path("u_unit.a", "u_unit.b", 3)},
+            {"from": "posedge clk", "to": "posedge clk", "path": path("u_unit.c", "u_unit.d", 24)},
+        ],
+    }
+    timing = parse.report_timing(rep)
+    assert (timing.fmax_mhz, timing.path_from, timing.path_to, timing.path_ns) == (
+        41.5, "u_unit.c", "u_unit.d", 24,
+    )  # fmt: skip
+
+
+def test_the_cli_runs_both_brdf_forms_without_a_config() -> None:
+    spec = importlib.util.spec_from_file_location("synth_script", ROOT / "scripts/synth.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    parser_args = module.argparse.Namespace(units=["brdf_unit"], parts=["xc7"], config=None)
+    assert module.runs_of(parser_args) == [
+        ("brdf_unit", "cosine_quadratic", "xc7"), ("brdf_unit", "quadratic", "xc7"),
+    ]  # fmt: skip
+    parser_args.config = ["quadratic"]
+    assert module.runs_of(parser_args) == [("brdf_unit", "quadratic", "xc7")]
+    parser_args.config = ["default"]
+    with pytest.raises(ValueError, match="'default' is unknown for brdf_unit"):
+        module.runs_of(parser_args)
 
 
 def test_the_up5k_specular_configuration_places_and_routes_on_the_up5k(

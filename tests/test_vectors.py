@@ -3,7 +3,8 @@
 
 * every committed set equals what the model writes now, byte for byte (a stale set fails);
 * every set replays clean under Icarus through sim/vectors/replay.sh, and each unit's default
-  set under Verilator (one Verilator build per unit): both RESET_ALL instances, every cycle;
+  set under Verilator (one Verilator build per unit; the BRDF unit's cosine-quadratic form):
+  both RESET_ALL instances, every cycle;
 * the bench fails loudly: a corrupted expected word gives a MISMATCH line naming its cycle and
   a non-zero exit under both simulators; a short file is refused;
 * the vector mode of ``python -m sim bench``: a generated stimulus (``write_stimulus``)
@@ -85,7 +86,9 @@ def test_replay_icarus(name: str, tmp_path: Path) -> None:
     assert_clean(replay(name, "icarus", tmp_path), vector_sets.SETS[name][1])
 
 
-@pytest.mark.parametrize("name", ["divider_default", "gouraud_default", "specular_default"])
+@pytest.mark.parametrize(
+    "name", ["divider_default", "gouraud_default", "specular_default", "brdf_cosine_quadratic"]
+)
 def test_replay_verilator(name: str, tmp_path: Path) -> None:
     assert_clean(replay(name, "verilator", tmp_path), vector_sets.SETS[name][1])
 

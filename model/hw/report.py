@@ -4,6 +4,7 @@
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 from model.hw.parts import PARTS
 from model.hw.synth import SynthResult
@@ -78,3 +79,71 @@ def failures(results: list[SynthResult]) -> list[str]:
                 f"{r.target_mhz:g} MHz"
             )
     return out
+
+
+def load(path: str | Path) -> list[SynthResult]:
+    """The results of a record written by ``dumps`` (``docs/synth.json``)."""
+    return [SynthResult.from_json(r) for r in json.loads(Path(path).read_text())["results"]]
+
+
+BESIDE_COLUMNS = (
+    "unit",
+    "config",
+    "part",
+    "LUT",
+    "FF",
+    "BRAM",
+    "DSP",
+    "fits",
+    "Fmax MHz",
+    "target",
+)
+
+
+def _delta(value: float | None, base: float | None, digits: int) -> str:
+    if value is None:
+        return "-"
+    text = f"{value:.{digits}f}"
+    if base is None:
+        return text
+    return f"{text} ({value - base:+.{digits}f})"
+
+
+def beside(
+    results: list[SynthResult],
+    unit: str,
+    base: tuple[str, str],
+    also: tuple[tuple[str, str], ...] = (),
+) -> str:
+    """Markdown table of every recorded configuration of ``unit``, part by part beside the row
+    of ``base`` (unit, configuration) on the same part: each of ``unit``'s LUT, FF, BRAM, DSP
+    and Fmax with its difference from ``base``'s in brackets (none where ``base`` has no
+    figure); the rows of ``also`` on a part follow ``base``'s there as they are.  ValueError if
+    the record holds no row of ``unit``, or a part of ``unit``'s lacks ``base``."""
+    own = [r for r in results if r.unit == unit]
+    if not own:
+        units = ", ".join(dict.fromkeys(r.unit for r in results))
+        raise ValueError(f"unit {unit!r} has no row in the record: it holds {units}")
+    parts = list(dict.fromkeys(r.part for r in own))
+    ref = {r.part: r for r in results if (r.unit, r.config) == base}
+    missing = [p for p in parts if p not in ref]
+    if missing:
+        raise ValueError(
+            f"base {base!r} has no row on {', '.join(missing)}: the record holds it on "
+            f"{', '.join(ref) or 'no part'}"
+        )
+    lines = ["| " + " | ".join(BESIDE_COLUMNS) + " |", "|" + "---|" * len(BESIDE_COLUMNS)]
+    for part in parts:
+        b = ref[part]
+        extra = [r for key in also for r in results if (r.unit, r.config, r.part) == (*key, part)]
+        for r in [b, *extra, *(r for r in own if r.part == part)]:
+            other = b if r.unit == unit else None
+            figures = [
+                _delta(getattr(r, f), getattr(other, f) if other else None, 0)
+                for f in ("lut", "ff", "bram", "dsp")
+            ]
+            fmax = _delta(r.fmax_mhz, other.fmax_mhz if other else None, 1)
+            target = "-" if r.target_mhz is None else f">= {r.target_mhz:g}"
+            cells = [f"`{r.unit}`", r.config, part, *figures, "yes" if r.fits else "no", fmax]
+            lines.append("| " + " | ".join([*cells, target]) + " |")
+    return "\n".join(lines) + "\n"

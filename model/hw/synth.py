@@ -17,7 +17,7 @@ key hashes the RTL sources, the ROM images' contents, the parameters, the part, 
 versions, the wrapper's text, the tools' options and ``FLOW``; a hit returns at once.  Each run
 keeps its files (wrapper, script, logs, reports) in ``out/synth/runs/<key>/``.
 
-Size: about 530 lines, one flow for the three kinds of run (a unit, a top's source list, a
+Size: about 560 lines, one flow for the three kinds of run (a unit, a top's source list, a
 design's files) that share the cache key, the run folder, the tool calls and the parsing.
 """
 
@@ -42,7 +42,7 @@ from model.hw.parts import PARTS, TARGETS, Part
 from model.hw.parts import part as get_part
 from model.hw.sources import source_list
 from model.hw.tools import find_tool
-from model.units import divider, gouraud, rom, specular
+from model.units import brdf, divider, gouraud, rom, specular
 
 FLOW = 2  # bump when the flow changes what a run gives: every cache entry is then stale
 # A unit's submodules flattened into it before synthesis (a top's stay hierarchical)
@@ -73,6 +73,15 @@ UNITS: dict[str, tuple[type, dict[str, object]]] = {
             "prototype": specular.PROTOTYPE,
             "inflection": specular.INFLECTION,
             "narrow": specular.NARROW,
+        },
+    ),
+    # one configuration per form, each at its default widths (no "default": make synth runs
+    # both on every part; None picks the first, the RTL's default FORM)
+    "brdf_unit": (
+        brdf.FixedConfig,
+        {
+            "cosine_quadratic": brdf.UNIT_CONFIGS["cosine_quadratic"],
+            "quadratic": brdf.UNIT_CONFIGS["quadratic"],
         },
     ),
 }
@@ -135,12 +144,14 @@ class SynthError(RuntimeError):
 
 
 def config_named(unit: str, config: object) -> tuple[str, object]:
-    """(name, configuration) of ``config`` for ``unit``: a name, None (default) or an object."""
+    """(name, configuration) of ``config`` for ``unit``: a name, None (the one named
+    "default", or the first named where there is none: the BRDF unit's cosine-quadratic form)
+    or an object."""
     if unit not in UNITS:
         raise ValueError(f"unit {unit!r} is unknown: known units are {', '.join(UNITS)}")
     cls, named = UNITS[unit]
     if config is None:
-        config = "default"
+        config = "default" if "default" in named else next(iter(named))
     if isinstance(config, str):
         if config not in named:
             raise ValueError(
@@ -166,6 +177,8 @@ def _sha(data: bytes | str) -> str:
 def _rom_text(unit: str, cfg: object, param: str) -> str:
     if unit == "divider_shift":
         return divider.rom_text(cfg)
+    if unit == "brdf_unit":
+        return brdf.rom_text(cfg, "coef" if param.startswith("COEF_") else "angle")
     return specular.rom_text(cfg, "a" if param.startswith("A_") else "cos")
 
 
@@ -533,12 +546,19 @@ def _tail(text: str, lines: int = 15) -> str:
     return "\n".join(text.strip().splitlines()[-lines:])
 
 
+def every_part_configs(unit: str) -> tuple[str, ...]:
+    """The configurations ``make synth`` runs ``unit`` at on every part: "default", or every
+    named one of a unit without a "default" (the BRDF unit's forms)."""
+    named = UNITS[unit][1] if unit in UNITS else {"default": None}
+    return ("default",) if "default" in named else tuple(named)
+
+
 def default_runs(tops: tuple[str, ...] = ()) -> list[tuple[str, str, str]]:
     """(unit, configuration, part) of ``make synth``: every unit, then every top of ``tops``
-    (``synthesise_top``'s, e.g. the shading core), at its default configuration on every part,
-    then the runs of the other targets of those (the specular unit's UP5K one, the core's
-    other configurations)."""
+    (``synthesise_top``'s, e.g. the shading core), at its default configuration on every part
+    (the BRDF unit: each form, ``every_part_configs``), then the runs of the other targets of
+    those (the specular unit's UP5K one, the core's other configurations)."""
     names = [*UNITS, *(t for t in tops if t not in UNITS)]
-    runs = [(u, "default", p) for u in names for p in PARTS]
+    runs = [(u, c, p) for u in names for c in every_part_configs(u) for p in PARTS]
     runs += [t for t in TARGETS if t not in runs and t[0] in names]
     return runs
