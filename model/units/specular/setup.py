@@ -267,11 +267,13 @@ def setup_lines(n1, n2, h1, h2, n, light, length, cfg: SpecularConfig = DEFAULT)
     if not np.all(np.isfinite(light_arr)) or (rows and light_arr.min() < 0):
         raise ValueError(f"light = {light!r} is out of range: legal is a finite value >= 0")
     out = np.empty((rows, 6))
+    # Contiguous, writeable copies whatever the caller passed (a broadcast view is read-only,
+    # and a read-only array is another numba signature: compiled once more on a cold start)
     _setup_kernel(
         *vecs,
-        np.ascontiguousarray(n_arr, dtype=np.int64),
-        np.ascontiguousarray(light_arr),
-        np.ascontiguousarray(len_arr, dtype=np.int64),
+        np.require(n_arr, np.int64, ("C", "W")),
+        np.require(light_arr, np.float64, ("C", "W")),
+        np.require(len_arr, np.int64, ("C", "W")),
         cfg.out_max,
         out,
     )
