@@ -12,9 +12,10 @@
  *                       invalid, as the RTL does);
  *   f_job_len, f_job_nerr   the running line's l and n error (the values held *before* the
  *                       start cycle's writes);
- *   f_left              busy cycles still to come: FILL + l = 11 + l at an accepted start
- *                       (model.units.brdf.cycles);
- *   f_valid, f_nerr_out the expected valid (offsets 11..11+l after the start edge) and n_err.
+ *   f_left              busy cycles still to come: FILL + l at an accepted start, FILL = 12
+ *                       (cosine-quadratic) or 13 (quadratic) (model.units.brdf.cycles);
+ *   f_valid, f_nerr_out the expected valid (offsets FILL..FILL+l after the start edge) and
+ *                       n_err.
  * The job's script removes both tables (their read data free in every cycle) and Yosys removes
  * the data path, which no property here observes: the protocol holds whatever the table words.
  * One labelled assert per property (busy_exact, ...), numbered by the P_* localparams.
@@ -65,9 +66,13 @@ module brdf_unit_formal #(
     input wire                              start
 );
 
-localparam FILL = 11;  // model.units.brdf.fill_latency: 7 front stages + the form's 4
-localparam LAST_STAGE = 10;
-localparam L_WIDTH = LEN_WIDTH + 2;  // f_left: up to 11 + 2^LEN_WIDTH - 1 (LEN_WIDTH >= 3)
+// model.units.brdf.fill_latency: 7 front stages + the form's 5 (cosine-quadratic) or 6
+localparam [8*16-1:0] FORM_QUADRATIC = "quadratic";
+localparam FILL_COSINE_QUADRATIC = 12;
+localparam FILL_QUADRATIC = 13;
+localparam FILL = (FORM == FORM_QUADRATIC) ? FILL_QUADRATIC : FILL_COSINE_QUADRATIC;
+localparam LAST_STAGE = FILL - 1;
+localparam L_WIDTH = LEN_WIDTH + 2;  // f_left: up to FILL + 2^LEN_WIDTH - 1 (LEN_WIDTH >= 3)
 
 // Property numbers (CHECK selects one)
 localparam P_BUSY_EXACT = 1;
@@ -180,10 +185,10 @@ end
 // ---------------------------------------------------------------- properties (ports only)
 always @(*) begin
     if (f_past_valid) begin
-        // busy exactly 11 + l cycles after an accepted start, l the value held before the
+        // busy exactly FILL + l cycles after an accepted start, l the value held before the
         // start cycle's writes; writes and start while busy change nothing
         if (check_on(P_BUSY_EXACT)) busy_exact: assert(busy == (f_left != 0));
-        // valid exactly at offsets 11..11+l after the start edge (l + 1 results, one per
+        // valid exactly at offsets FILL..FILL+l after the start edge (l + 1 results, one per
         // clock, the last with busy = 0), never otherwise
         if (check_on(P_VALID_EXACT)) valid_exact: assert(valid == f_valid);
         // n_err = the n error of the line's n (held before the start cycle's writes) on every
@@ -238,7 +243,7 @@ wire [LAST_STAGE:0]   f_int_v;
 wire [LAST_STAGE:1]   f_int_last;
 
 // The stage flags: the pixel in stage s left S0 s cycles ago; pixel i (0..l) is in S0 while
-// f_left = 11 + l - i, so stage s holds a pixel iff 11 <= f_left + s <= 11 + l
+// f_left = FILL + l - i, so stage s holds a pixel iff FILL <= f_left + s <= FILL + l
 reg [LAST_STAGE:0] f_v_want;
 reg [LAST_STAGE:1] f_last_want;
 integer s;

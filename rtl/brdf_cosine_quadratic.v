@@ -10,13 +10,14 @@
  * k = 7n, 13 bits (n up to 1023: the unit gates the result of an n outside 1..1000); y unsigned,
  * O = OUT_BITS fraction bits.  Two multipliers, no coefficient table.
  *
- * Pipeline (four stages, registered after each multiplier): s1 prod_reg = k * w, s2 base_reg
- * (rounding and the clip at 0), s3 sq_reg = base^2, s4 y_reg (rounding, saturation); the word
- * of the w that enters at an edge is on y four edges later.  k is the running line's constant.
+ * Pipeline (five stages, registered after each multiplier): s1 prod_reg = k * w, s2 base_reg
+ * (rounding and the clip at 0), s3 and s4 base^2 (rtl/brdf_mul.v: the partial products, then
+ * their sum), s5 y_reg (rounding, saturation); the word of the w that enters at an edge is on
+ * y five edges later.  k is the running line's constant.
  * Reset: none of these registers is control state; RESET_ALL = 1 resets them all (rst_n is
  * synchronous, active low).
  *
- * Sources: this file and rtl/brdf_round.v; instantiated by rtl/brdf_unit.v (rtl/brdf_unit.f).
+ * Sources: this file, rtl/brdf_mul.v and rtl/brdf_round.v; instantiated by rtl/brdf_unit.v (rtl/brdf_unit.f).
  * Documentation: docs/brdf_unit.md.
  */
 
@@ -53,7 +54,7 @@ localparam Y_SHIFT = 2 * P - O;
 
 reg [PROD_WIDTH-1:0] prod_reg;
 reg [P:0]            base_reg;
-reg [2*P+1:0]        sq_reg;
+wire [2*P+1:0]       sq;
 reg [O-1:0]          y_reg;
 
 assign y = y_reg;
@@ -71,7 +72,20 @@ brdf_round #(
     .y(m_sat)
 );
 
-// s3 -> s4: base^2 rounded to O fraction bits, saturated to 2^O - 1
+// s2 -> s4: base^2, exact
+brdf_mul #(
+    .A_WIDTH(P + 1),
+    .B_WIDTH(P + 1),
+    .RESET_ALL(RESET_ALL)
+) u_square (
+    .clk(clk),
+    .rst_n(rst_n),
+    .a(base_reg),
+    .b(base_reg),
+    .p(sq)
+);
+
+// s4 -> s5: base^2 rounded to O fraction bits, saturated to 2^O - 1
 wire [O-1:0] y_next;
 
 brdf_round #(
@@ -79,20 +93,18 @@ brdf_round #(
     .SHIFT(Y_SHIFT),
     .OUT_WIDTH(O)
 ) u_round_y (
-    .x(sq_reg),
+    .x(sq),
     .y(y_next)
 );
 
 always @(posedge clk) begin
     prod_reg <= k * w;
     base_reg <= base_next;
-    sq_reg <= base_reg * base_reg;
     y_reg <= y_next;
 
     if (RESET_ALL != 0 && !rst_n) begin
         prod_reg <= {PROD_WIDTH{1'b0}};
         base_reg <= {(P+1){1'b0}};
-        sq_reg <= {(2*P+2){1'b0}};
         y_reg <= {O{1'b0}};
     end
 end

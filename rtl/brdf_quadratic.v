@@ -11,13 +11,14 @@
  * unsigned Q(COEF_BITS - COEF_FRAC_BITS).(COEF_FRAC_BITS); y unsigned, O = OUT_BITS fraction
  * bits.  Two multipliers and a subtractor, one coefficient per n.
  *
- * Pipeline (four stages, registered after each multiplier): s1 prod_reg = a * w and c1_reg =
- * 1 - w, s2 t_reg (rounding, the clip at 0) and c2_reg, s3 prod2_reg = c * t, s4 y_reg
- * (rounding, saturation); the word of the w that enters at an edge is on y four edges later.
+ * Pipeline (six stages, registered after each multiplier and each wide adder): s1 prod_reg =
+ * a * w and c1_reg = 1 - w, s2 m_reg (rounding and saturation), s3 t_reg (the clip at 0 and
+ * 1 - m), s4 and s5 c * t (rtl/brdf_mul.v: the partial products, then their sum), s6 y_reg
+ * (rounding, saturation); the word of the w that enters at an edge is on y six edges later.
  * k is the running line's constant.  Reset: none of these registers is control state;
  * RESET_ALL = 1 resets them all (rst_n is synchronous, active low).
  *
- * Sources: this file and rtl/brdf_round.v; instantiated by rtl/brdf_unit.v (rtl/brdf_unit.f).
+ * Sources: this file, rtl/brdf_mul.v and rtl/brdf_round.v; instantiated by rtl/brdf_unit.v (rtl/brdf_unit.f).
  * Documentation: docs/brdf_unit.md.
  */
 
@@ -60,16 +61,19 @@ localparam Y_SHIFT = D + P - O;
 
 reg [PROD_WIDTH-1:0]  prod_reg;
 reg [D:0]             c1_reg;
-reg [P:0]             t_reg;
+reg [P:0]             m_reg;
 reg [D:0]             c2_reg;
-reg [PROD2_WIDTH-1:0] prod2_reg;
+reg [P:0]             t_reg;
+reg [D:0]             c3_reg;
+wire [PROD2_WIDTH-1:0] prod2;
 reg [O-1:0]           y_reg;
 
 assign y = y_reg;
 
-// s1 -> s2: m rounded to P fraction bits and saturated to P + 1 bits (2^P or more: t = 0)
+// s1 -> s2: m rounded to P fraction bits and saturated to P + 1 bits (2^P or more: t = 0);
+// s2 -> s3: t = 1 - m, clipped at 0
 wire [P:0] m_sat;
-wire [P:0] t_next = m_sat[P] ? {(P+1){1'b0}} : {1'b1, {P{1'b0}}} - m_sat;
+wire [P:0] t_next = m_reg[P] ? {(P+1){1'b0}} : {1'b1, {P{1'b0}}} - m_reg;
 
 brdf_round #(
     .IN_WIDTH(PROD_WIDTH),
@@ -80,7 +84,20 @@ brdf_round #(
     .y(m_sat)
 );
 
-// s3 -> s4: c * t rounded to O fraction bits, saturated to 2^O - 1
+// s3 -> s5: c * t, exact
+brdf_mul #(
+    .A_WIDTH(D + 1),
+    .B_WIDTH(P + 1),
+    .RESET_ALL(RESET_ALL)
+) u_ct (
+    .clk(clk),
+    .rst_n(rst_n),
+    .a(c3_reg),
+    .b(t_reg),
+    .p(prod2)
+);
+
+// s5 -> s6: c * t rounded to O fraction bits, saturated to 2^O - 1
 wire [O-1:0] y_next;
 
 brdf_round #(
@@ -88,24 +105,26 @@ brdf_round #(
     .SHIFT(Y_SHIFT),
     .OUT_WIDTH(O)
 ) u_round_y (
-    .x(prod2_reg),
+    .x(prod2),
     .y(y_next)
 );
 
 always @(posedge clk) begin
     prod_reg <= k * w;
     c1_reg <= {1'b1, {D{1'b0}}} - w;
-    t_reg <= t_next;
+    m_reg <= m_sat;
     c2_reg <= c1_reg;
-    prod2_reg <= c2_reg * t_reg;
+    t_reg <= t_next;
+    c3_reg <= c2_reg;
     y_reg <= y_next;
 
     if (RESET_ALL != 0 && !rst_n) begin
         prod_reg <= {PROD_WIDTH{1'b0}};
         c1_reg <= {(D+1){1'b0}};
-        t_reg <= {(P+1){1'b0}};
+        m_reg <= {(P+1){1'b0}};
         c2_reg <= {(D+1){1'b0}};
-        prod2_reg <= {PROD2_WIDTH{1'b0}};
+        t_reg <= {(P+1){1'b0}};
+        c3_reg <= {(D+1){1'b0}};
         y_reg <= {O{1'b0}};
     end
 end

@@ -8,5 +8,6 @@
 brdf_unit.v
 brdf_cosine_quadratic.v
 brdf_quadratic.v
+brdf_mul.v
 brdf_round.v
 shading_rom.v

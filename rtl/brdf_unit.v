@@ -22,14 +22,15 @@
  * form's datapath (rtl/brdf_<form>.v: the output word F in OUT_BITS fraction bits), then
  * C * F rounded to the output LSB and saturated (as multiplier 13 is).
  *
- * Pipeline (one pixel per clock, 7 + 4 stages): S0 accumulator, S1 |zeta| without its carry
- * (sign, one's complement, "too big" flag), S2 |zeta| saturated below 2 (pi: every clamped
- * value still reads pi/2 or more), S3 the rounded address, S4 the angle-table read and the
- * overflow flag, S5 w (the overflow gate on the registered table word), S6..S9 the form's four
- * stages, S10 C * F (F gated to 0 for an n outside 1..1000), S11 rounding + saturation ->
- * output.  After the edge that accepts start, busy is high for 11 + l cycles and valid is high
- * in cycles 11 .. 11 + l (the last one together with busy = 0, when a new start is already
- * accepted): model.units.brdf.cycles and valid_offsets.
+ * Pipeline (one pixel per clock, 7 + FORM_LATENCY stages): S0 accumulator, S1 |zeta| without
+ * its carry (sign, one's complement, "too big" flag), S2 |zeta| saturated below 2 (pi: every
+ * clamped value still reads pi/2 or more), S3 the rounded address, S4 the angle-table read and
+ * the overflow flag, S5 w (the overflow gate on the registered table word), then the form's
+ * stages (5 for the cosine-quadratic, 6 for the quadratic: each wide product in two,
+ * rtl/brdf_mul.v), then C * F (F gated to 0 for an n outside 1..1000) and rounding +
+ * saturation -> output.  After the edge that accepts start, busy is high for F + l cycles and
+ * valid is high in cycles F .. F + l, F = 7 + FORM_LATENCY (the last one together with busy =
+ * 0, when a new start is already accepted): model.units.brdf.cycles and valid_offsets.
  *
  * Reset (RESET_ALL): rst_n always resets the control state, the flags and the operand
  * registers; RESET_ALL = 1 also resets the data path.  The table read registers are never
@@ -49,8 +50,8 @@
  * at time 0 by the ROM module (rtl/shading_rom.v): a missing, short, malformed or
  * wrong-configuration file ends the run with a message and a non-zero exit status.
  *
- * Sources: this file, rtl/brdf_cosine_quadratic.v, rtl/brdf_quadratic.v, rtl/brdf_round.v and
- * rtl/shading_rom.v (rtl/brdf_unit.f lists them).
+ * Sources: this file, rtl/brdf_cosine_quadratic.v, rtl/brdf_quadratic.v, rtl/brdf_mul.v,
+ * rtl/brdf_round.v and rtl/shading_rom.v (rtl/brdf_unit.f lists them).
  */
 
 `resetall
@@ -225,7 +226,7 @@ endgenerate
 // cosine-quadratic's 7n (13 bits: n up to 1023)
 localparam K_WIDTH = IS_QUADRATIC ? COEF_BITS : 13;
 // The form's pipeline stages (model.units.brdf.FORM_LATENCY)
-localparam FORM_LATENCY = 4;
+localparam FORM_LATENCY = IS_QUADRATIC ? 6 : 5;
 localparam LAST_STAGE = 6 + FORM_LATENCY;
 
 // ---------------------------------------------------------------- operand registers

@@ -199,12 +199,15 @@ def test_quadratic_a_needs_ten_integer_bits() -> None:
 
 @pytest.mark.parametrize("name", FORMS)
 def test_timing(name: str) -> None:
-    """busy 11 + l cycles, valid at 11 .. 11 + l: the front's 7 stages and the form's 4."""
+    """busy F + l cycles, valid at F .. F + l, F the front's 7 stages and the form's: 5 for the
+    cosine-quadratic (its square in two stages), 6 for the quadratic (1 - a w and c t each in
+    two); the bench holds the RTL to them in every cycle."""
     cfg = brdf.UNIT_CONFIGS[name]
-    assert brdf.FRONT_STAGES + brdf.FORM_LATENCY[name] == brdf.fill_latency(cfg) == 11
-    assert brdf.cycles(0, cfg) == 11 and brdf.cycles(2047, cfg) == 2058
-    assert brdf.cycles(np.array([0, 5]), cfg).tolist() == [11, 16]
-    assert brdf.valid_offsets(3, cfg) == [11, 12, 13, 14]
+    fill = {"cosine_quadratic": 12, "quadratic": 13}[name]
+    assert brdf.FRONT_STAGES + brdf.FORM_LATENCY[name] == brdf.fill_latency(cfg) == fill
+    assert brdf.cycles(0, cfg) == fill and brdf.cycles(2047, cfg) == fill + 2047
+    assert brdf.cycles(np.array([0, 5]), cfg).tolist() == [fill, fill + 5]
+    assert brdf.valid_offsets(3, cfg) == [fill, fill + 1, fill + 2, fill + 3]
     with pytest.raises(ValueError, match="length = 2048 is out of range"):
         brdf.valid_offsets(2048, cfg)
 

@@ -126,9 +126,9 @@ def test_brdf_property_file_mutants_and_doc_agree() -> None:
     from model.units import brdf
 
     text = BRDF_PROPS.read_text()
-    for cfg in m.CONFIGS.values():
-        assert re.search(rf"\bFILL = {brdf.fill_latency(cfg)};", text)
-        assert re.search(rf"\bLAST_STAGE = {brdf.fill_latency(cfg) - 1};", text)
+    for form, cfg in m.CONFIGS.items():
+        assert re.search(rf"\bFILL_{form.upper()} = {brdf.fill_latency(cfg)};", text), form
+    assert re.search(r"\bLAST_STAGE = FILL - 1;", text)
 
 
 def test_quick_specular_intensities_are_proven_at_small(quick) -> None:

@@ -18,12 +18,14 @@ pytestmark = pytest.mark.sim
 RESET_ALL_TESTS = ["test_extremes", "test_reset_mid_line", "test_random_strobes"]
 
 
-def _run(name: str, reset_all: int, **kwargs) -> list[dict]:
+def _run(name: str, reset_all: int, build: str = "", **kwargs) -> list[dict]:
+    """The bench on form ``name``'s default widths, built in sim_build/brdf_<name><build>: a
+    mutant's build must have a folder of its own (tests run side by side under xdist)."""
     cfg = brdf.UNIT_CONFIGS[name]
     return run_bench(
         "brdf_unit",
         "sim.tb_brdf",
-        f"brdf_{name}",
+        f"brdf_{name}{build}",
         brdf.hdl_parameters(cfg),
         cfg,
         reset_all=reset_all,
@@ -62,6 +64,7 @@ def test_bench_fails_on_the_round_quarter_mutant(request) -> None:
     records = _run(
         "cosine_quadratic",
         0,
+        build="_round_quarter",
         testcase=["test_extremes"],
         rtl=mutants.build("brdf_unit_round_quarter", SIM_BUILD / "mutants"),
         expect_failure=True,

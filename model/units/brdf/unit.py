@@ -41,7 +41,7 @@ FRONT_STAGES = 7
 """Clock edges of every form's front and back: the accumulator, |zeta| in two steps, the
 angle-table address, the table read, the w gate (w = 2**D from pi/2 on), and x C; the
 rounded, saturated result is registered at the next edge (docs/brdf_unit.md, "Timing")."""
-FORM_LATENCY: dict[str, int] = {"cosine_quadratic": 4, "quadratic": 4}
+FORM_LATENCY: dict[str, int] = {"cosine_quadratic": 5, "quadratic": 6}
 """Pipeline stages of each form's datapath module (rtl/brdf_<form>.v), w in to the output word:
 every form with RTL (the others raise in ``check_unit``)."""
 RTL_FORMS = tuple(FORM_LATENCY)

@@ -1,0 +1,85 @@
+// SPDX-License-Identifier: Apache-2.0
+/*
+ * A pipelined unsigned multiplier for the BRDF unit's wide products: p = a * b, exact, two
+ * clock edges after a and b.  Stage 1: the four partial products of the operands' halves
+ * (a = ah 2^AL + al, b = bh 2^BL + bl; al bl, al bh, ah bl, ah bh), each registered: each is
+ * at most 13 x 13 bits for 25-bit operands, one multiplier block of an FPGA (18 x 18 on the
+ * ECP5, 16 x 16 on the UP5K) with nothing after it in that clock.  Stage 2: their sum,
+ * registered.  A product of two 25-bit words in one stage spans several blocks and the adder
+ * that joins them, and misses 100 MHz on the ECP5 (docs/brdf_unit.md, "Resources").
+ *
+ * Reset: none of these registers is control state; RESET_ALL = 1 resets them all (rst_n is
+ * synchronous, active low).
+ *
+ * Checks: an operand narrower than 2 bits (no halves) is refused at elaboration, by an instance
+ * of the module brdf_mul_PARAMETER_ERROR_A_WIDTH_and_B_WIDTH_must_be_at_least_2, which does
+ * not exist.
+ *
+ * Sources: this file; instantiated by rtl/brdf_cosine_quadratic.v and rtl/brdf_quadratic.v
+ * (rtl/brdf_unit.f).  Documentation: docs/brdf_unit.md.
+ */
+
+`resetall
+`timescale 1ns / 1ps
+`default_nettype none
+
+module brdf_mul #(
+    // Bits of the unsigned operand a
+    parameter A_WIDTH = 25,
+    // Bits of the unsigned operand b
+    parameter B_WIDTH = 25,
+    // 0: no register here is reset; 1: rst_n resets every one
+    parameter RESET_ALL = 0
+) (
+    input  wire                       clk,
+    input  wire                       rst_n,
+    input  wire [A_WIDTH-1:0]         a,
+    input  wire [B_WIDTH-1:0]         b,
+    output wire [A_WIDTH+B_WIDTH-1:0] p
+);
+
+localparam AL = (A_WIDTH + 1) / 2;
+localparam AH = A_WIDTH - AL;
+localparam BL = (B_WIDTH + 1) / 2;
+localparam BH = B_WIDTH - BL;
+localparam W = A_WIDTH + B_WIDTH;
+
+generate
+    if (A_WIDTH < 2 || B_WIDTH < 2) begin : g_check_width
+        brdf_mul_PARAMETER_ERROR_A_WIDTH_and_B_WIDTH_must_be_at_least_2 u_error ();
+    end
+endgenerate
+
+reg [AL+BL-1:0] ll_reg;
+reg [AL+BH-1:0] lh_reg;
+reg [AH+BL-1:0] hl_reg;
+reg [AH+BH-1:0] hh_reg;
+reg [W-1:0]     p_reg;
+
+assign p = p_reg;
+
+// Stage 2: the partial products aligned (each fits W bits: the sum is the exact product)
+wire [W-1:0] ll_w = {{(W-AL-BL){1'b0}}, ll_reg};
+wire [W-1:0] lh_w = {{(W-AL-BH){1'b0}}, lh_reg} << BL;
+wire [W-1:0] hl_w = {{(W-AH-BL){1'b0}}, hl_reg} << AL;
+wire [W-1:0] hh_w = {{(W-AH-BH){1'b0}}, hh_reg} << (AL + BL);
+
+always @(posedge clk) begin
+    ll_reg <= a[AL-1:0] * b[BL-1:0];
+    lh_reg <= a[AL-1:0] * b[B_WIDTH-1:BL];
+    hl_reg <= a[A_WIDTH-1:AL] * b[BL-1:0];
+    hh_reg <= a[A_WIDTH-1:AL] * b[B_WIDTH-1:BL];
+    p_reg <= ll_w + lh_w + hl_w + hh_w;
+
+    if (RESET_ALL != 0 && !rst_n) begin
+        ll_reg <= {(AL+BL){1'b0}};
+        lh_reg <= {(AL+BH){1'b0}};
+        hl_reg <= {(AH+BL){1'b0}};
+        hh_reg <= {(AH+BH){1'b0}};
+        p_reg <= {W{1'b0}};
+    end
+end
+
+endmodule
+
+`resetall
