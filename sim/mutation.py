@@ -30,15 +30,25 @@ For each design (the three units and the shading core) at its default configurat
    (``equivalence``): the mutated design against the original, ROM tables cut out
    (``cut_roms``), every matched named wire asserted equal (``equiv_make -make_assert``) and
    the asserts proven by ``sat -tempinduct`` (base case from the same all-zero state with
-   rst_n low in the first cycle, induction step from any state).  A proven mutant is
-   *equivalent* (no test can kill it); one neither killed nor proven is a *survivor*.
+   rst_n low in the first cycle, induction step from any state); for the few those leave, a
+   miter of the two from reset (the same power-up state), the outputs compared as the
+   design's ``contract`` defines them, proven by ABC's ``pdr`` (sim/mutation_proof.py).  A
+   proven mutant is *equivalent* (no test can kill it); one neither killed nor proven is a
+   *survivor*.
 
 Writes out/mutants/<design>/ (the list, the netlist, the wrapper, the builds, result.json) and
 prints one table: mutants, killed (by which check), proven equivalent, survivors.
 ``--record docs/mutants.json`` also writes the record the docs quote and ``--docs
 docs/verification.md`` puts its table there (``make mutants``).
 ``--sample N`` runs N mutants per design spread evenly over the list (``sample``), the quick
-tier's subset (tests/test_mutation.py).
+tier's subset (tests/test_mutation.py).  ``--ids`` runs the mutants named, ``--survivors`` the
+last result's survivors, and ``--merge`` puts their new outcomes into the design's last
+result.json (``merge``: after a proof is added, only the survivors need to run again);
+``--reset-proof-only`` gives them the proof from reset alone (their checks and the other
+proofs already found nothing).
+
+Size: about 560 lines: the list, the netlist, the benches, the checks' order and the record
+are one flow, ``make mutants``, whose parts only it runs.
 """
 
 from __future__ import annotations
@@ -54,7 +64,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from model.hw.sources import source_list
-from sim import core_run, vector_run, vector_sets
+from sim import core_run, units, vector_run, vector_sets
 from sim.mutation_checks import (
     CORE_CONFIG,
     CTRL,
@@ -68,7 +78,7 @@ from sim.mutation_checks import (
     unit_checks,
     wrapper,
 )
-from sim.mutation_proof import equivalence, mutate_field, run_yosys
+from sim.mutation_proof import PDR_TIMEOUT, Contract, equivalence, mutate_field, run_yosys
 from sim.mutation_report import table, write_docs
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -91,6 +101,19 @@ class Design:
     @property
     def is_core(self) -> bool:
         return self.top == "shading_core"
+
+    @property
+    def contract(self) -> Contract:
+        """What the from-reset proof compares: a unit's busy, valid, flags and strobes in every
+        cycle after reset and its data outputs (the protocol model's "data" kind) from a
+        result on; the core's ``s_axis_tready`` and ``m_axis_tvalid`` in every cycle and its
+        pixel beat while ``m_axis_tvalid``."""
+        if self.is_core:
+            return Contract(
+                "m_axis_tvalid", ("m_axis_tdata", "m_axis_tlast", "m_axis_tuser"), False
+            )
+        spec = units.spec(vector_sets.SETS[self.vector_set][0])
+        return Contract("valid", tuple(p.name for p in spec.outputs if p.kind == "data"), True)
 
 
 DESIGNS: dict[str, Design] = {
@@ -306,12 +329,14 @@ def sample(n_mutations: int, n: int) -> list[int]:
 
 def run_design(
     design: Design, ids: list[int] | None = None, jobs: int = 2, out: Path = OUT,
-    prove: bool = True,
+    prove: bool = True, pdr_timeout: float = PDR_TIMEOUT, reset_proof_only: bool = False,
 ) -> DesignReport:  # fmt: skip
-    """Every mutant of ``design`` (or those of ``ids``) through its checks."""
+    """Every mutant of ``design`` (or those of ``ids``) through its checks and the proofs;
+    ``reset_proof_only``: ``ids`` (survivors of an earlier run, whose checks and other proofs
+    found nothing) through the proof from reset alone, nothing built."""
     net = prepare(design, out)
     t0 = time.monotonic()
-    bench = build(net)
+    bench = None if reset_proof_only else build(net)
     build_s = time.monotonic() - t0
     checks = checks_of(net)
     work = net.folder / "work"
@@ -321,7 +346,7 @@ def run_design(
     alive = list(ids if ids is not None else by_id)
     killed_by: dict[int, str] = {}
     with ThreadPoolExecutor(max_workers=jobs) as pool:
-        for check in checks:
+        for check in [] if reset_proof_only else checks:
             if not alive:  # a sample all killed: the checks after are not needed
                 break
             if check.writer is not None:
@@ -343,7 +368,8 @@ def run_design(
             for i, how in zip(alive, pool.map(
                     lambda i: equivalence(
                         net.folder / "equiv" / str(i), design.top, net.design_il,
-                        by_id[i].command, design.busy_proof,
+                        by_id[i].command, design.busy_proof, contract=design.contract,
+                        pdr_timeout=pdr_timeout, earlier=not reset_proof_only,
                     ),
                     alive,
                 ),
@@ -433,6 +459,34 @@ def load_report(path: Path) -> DesignReport:
     return DesignReport(**{**d, **outcomes})
 
 
+def merge(full: DesignReport, part: DesignReport) -> DesignReport:
+    """``full`` (a run of a design's whole list) with the outcomes of ``part`` (a later run of
+    some of its mutants, e.g. the survivors given to a new proof) in place of its own for
+    those mutants: the kills counted again, the seconds of both runs' checks and proofs added
+    up (the list and the build are the full run's)."""
+    if (part.list_digest, part.inputs_digest) != (full.list_digest, full.inputs_digest):
+        raise ValueError(f"{full.design}: the two runs are of different lists")
+    by_id = {o.id: o for o in full.outcomes} | {o.id: o for o in part.outcomes}
+    outcomes = tuple(by_id[i] for i in sorted(by_id))
+    names = list(dict.fromkeys([*full.killed, *part.killed]))
+    return DesignReport(
+        full.design,
+        full.seed,
+        len(outcomes),
+        {n: sum(1 for o in outcomes if o.killed_by == n) for n in names},
+        tuple(o for o in outcomes if o.equivalent),
+        tuple(o for o in outcomes if o.survivor),
+        outcomes,
+        full.inputs_digest,
+        full.list_digest,
+        full.prepare_s,
+        full.build_s,
+        full.run_s + part.run_s,
+        full.equiv_s + part.equiv_s,
+        full.proved and part.proved,
+    )
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
         prog="python -m sim.mutation", description=__doc__.split("\n")[0]
@@ -449,17 +503,49 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--collect", action="store_true", help="report the designs' last results, run nothing"
     )
+    parser.add_argument("--ids", type=int, nargs="+", help="run only these mutants")
+    parser.add_argument(
+        "--survivors", action="store_true", help="run only the last result's survivors"
+    )
+    parser.add_argument(
+        "--merge",
+        action="store_true",
+        help="merge the run's outcomes into the design's last result.json (merge)",
+    )
+    parser.add_argument(
+        "--pdr-timeout", type=float, default=PDR_TIMEOUT, help="seconds of each pdr proof"
+    )
+    parser.add_argument(
+        "--reset-proof-only",
+        action="store_true",
+        help="with --merge: the last result's survivors among the mutants run only the proof "
+        "from reset (their checks and other proofs are in it)",
+    )
     args = parser.parse_args(argv)
+    if args.reset_proof_only and not args.merge:
+        parser.error("--reset-proof-only needs --merge")
     reports = []
     t0 = time.monotonic()
     for name in args.design:
+        result = args.out.resolve() / name / "result.json"
         if args.collect:
-            reports.append(load_report(args.out.resolve() / name / "result.json"))
+            reports.append(load_report(result))
             continue
-        ids = sample(LIST_SIZE, args.sample) if args.sample else None
-        reports.append(
-            run_design(DESIGNS[name], ids, args.jobs, args.out.resolve(), not args.no_prove)
-        )
+        ids = sample(LIST_SIZE, args.sample) if args.sample else args.ids
+        last = load_report(result) if args.merge or args.survivors else None
+        if args.survivors:
+            ids = [o.id for o in last.survivors]
+        if args.reset_proof_only:
+            alive = {o.id for o in last.survivors}
+            ids = [i for i in (ids or sorted(alive)) if i in alive]
+        report = run_design(
+            DESIGNS[name], ids, args.jobs, args.out.resolve(), not args.no_prove,
+            args.pdr_timeout, args.reset_proof_only,
+        )  # fmt: skip
+        if args.merge:
+            report = merge(last, report)
+            result.write_text(json.dumps(asdict(report), indent=2) + "\n")
+        reports.append(report)
         print(details(reports[-1:]), end="", flush=True)
     print(table(record(reports)), end="")
     print(f"mutation testing: {time.monotonic() - t0:.1f} s")

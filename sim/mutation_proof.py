@@ -13,8 +13,16 @@ The ROM tables are cut out of both designs (``cut_roms``).  Two kinds of proof
 * ``equiv_make -make_assert`` (an assert per matched named wire) and ``sat -tempinduct``: the
   base case from the same all-zero state with rst_n low in the first cycle, the induction step
   from any state, up to a few cycles long (``_prove``).
+* A miter of the two, both from the same power-up state with rst_n low in the first cycle,
+  asserting the outputs equal after reset as the design's contract defines them (``Contract``:
+  the data outputs only where defined), proven unbounded by ABC's ``scorr`` and ``pdr``
+  (``_prove_from_reset``): equal from reset, which needs no invariant to be spelled out (a
+  counter's bound, a stage register read only while its valid bit is set).
 
 A verdict is kept per folder for the same netlists and script.
+
+Size: about 640 lines: the three proofs share the ROM cut, the miter's netlists, the verdict
+cache and the Yosys runs; each is one method of telling a mutant from the original.
 """
 
 from __future__ import annotations
@@ -25,6 +33,7 @@ import os
 import re
 import subprocess
 import threading
+from dataclasses import dataclass
 from pathlib import Path
 
 from sim.gate import yosys_exe
@@ -266,20 +275,327 @@ def _prove_local(folder: Path, top: str, blacklist: list[str], steps: int, timeo
     return None
 
 
+# ---------------------------------------------------------------- the third proof: from reset
+@dataclass(frozen=True)
+class Contract:
+    """What a design's outputs must show after reset, as the from-reset proof compares them
+    (``_prove_from_reset``): every output but ``data`` in every cycle (busy, valid, flags,
+    strobes, handshakes); ``data`` only where defined, from a cycle with ``valid`` = 1 until the
+    next reset (``held``: a unit's data outputs hold the last result, rule 5 of
+    docs/architecture.md and the protocol model's "data" outputs) or in the cycles with
+    ``valid`` = 1 only (an AXI4-Stream payload, the core's ``m_axis_tdata`` while
+    ``m_axis_tvalid``)."""
+
+    valid: str
+    data: tuple[str, ...]
+    held: bool
+
+
+# The first cycle's flag and the power-up state the two copies share (``shared_power_up``)
+FIRST = "mutation_first"
+POWER_UP = "mutation_init"
+# The ABC engine and the verdict file it writes (``write_status``)
+PDR_STATUS = "pdr_status.txt"
+# Seconds given to ``pdr`` (the conversion and ``scorr`` come on top, a minute at most)
+PDR_TIMEOUT = 300.0
+# The miter after ABC's ``scorr`` (the registers it proves equal merged), which ``pdr`` is given
+REDUCED = "pdr_reduced.aig"
+
+
+def _constant_false(aig: Path) -> bool:
+    """The AIGER file ``aig`` has no latch, no gate and every output the constant 0 (ABC's
+    ``scorr`` left nothing for ``pdr``, which needs a latch, to prove)."""
+    if not aig.exists():
+        return False
+    lines = aig.read_bytes().split(b"\n")
+    header = lines[0].split()
+    if header[:1] not in ([b"aig"], [b"aag"]) or len(header) < 6:
+        return False
+    inputs, latches, outputs, ands = (int(x) for x in header[2:6])
+    skip = inputs if header[0] == b"aag" else 0
+    listed = lines[1 + skip : 1 + skip + outputs]
+    return (
+        latches == 0
+        and ands == 0
+        and len(listed) == outputs
+        and all(ln.strip() == b"0" for ln in listed)
+    )
+
+
+def shared_power_up(il: str, top: str) -> str:
+    """The RTLIL ``il`` with the power-up state of every ``$dff`` of ``top`` (``prep`` leaves
+    no other kind of flip-flop in these designs; a memory's words, mapped later, start free in
+    each copy) an input: an input
+    ``mutation_first`` (1 in the first cycle only) and, for the k-th flip-flop by cell name, an
+    input ``mutation_init<k>`` of its width, which its readers see in the first cycle instead
+    of its output (``first ? init : Q``).  Two designs with the same flip-flop cells, the same
+    inputs given to both, start from the same arbitrary state: what a register without a reset
+    holds at power-up is the same in both, as in one chip."""
+    body = il.split(f"\nmodule \\{top}\n", 1)[1].split("\nend\n", 1)[0]
+    cells = re.findall(r"^\s*cell \$dff (\S+)\n(.*?)^\s*end$", body, re.M | re.S)
+    order = {name: k for k, name in enumerate(sorted(name for name, _ in cells))}
+    port = max(int(n) for n in re.findall(r"^\s*wire .*(?:input|output) (\d+) ", body, re.M))
+    decls = [f"  wire input {port + 1} \\{FIRST}"]
+    extra = []
+    for name, block in cells:
+        width = int(re.search(r"^\s*parameter \\WIDTH (\d+)$", block, re.M).group(1))
+        k = order[name]
+        q = re.search(r"^\s*connect \\Q (.*)$", block, re.M).group(1)
+        raw = f"\\{POWER_UP}{k}__q"
+        decls += [
+            f"  wire width {width} input {port + 2 + k} \\{POWER_UP}{k}",
+            f"  wire width {width} {raw}",
+        ]
+        extra += [
+            f"  cell $mux $mutation_power_up{k}",
+            f"    parameter \\WIDTH {width}",
+            f"    connect \\A {raw}",
+            f"    connect \\B \\{POWER_UP}{k}",
+            f"    connect \\S \\{FIRST}",
+            f"    connect \\Y {q}",
+            "  end",
+        ]
+        body = re.sub(
+            rf"(^\s*cell \$dff {re.escape(name)}\n(?:(?!^\s*end$).)*?^\s*connect \\Q )[^\n]*",
+            lambda m, raw=raw: m.group(1) + raw,
+            body,
+            count=1,
+            flags=re.M | re.S,
+        )
+    head, rest = il.split(f"\nmodule \\{top}\n", 1)
+    tail = rest.split("\nend\n", 1)[1]
+    return (
+        f"{head}\nmodule \\{top}\n" + "\n".join(decls) + "\n" + body + "\n" + "\n".join(extra)
+        + "\nend\n" + tail
+    )  # fmt: skip
+
+
+# Where ``_memories_mapped`` starts Yosys's cell numbering, the same for both copies: above any
+# number the netlists use, so the flip-flops ``memory_map`` makes are named alike in the two
+MAPPED_AUTOIDX = 10_000_000
+
+
+def _memories_mapped(folder: Path, il: str, name: str) -> str:
+    """The RTLIL ``il`` with its memories that have write ports (a FIFO's; the ROMs are cut)
+    made flip-flops by Yosys's ``memory_map``, the new cells numbered from ``MAPPED_AUTOIDX``
+    (the original and the mutant map the same memories alike: ``shared_power_up`` gives their
+    words the same power-up state too), in ``folder`` as ``<name>_mapped.il``; ``il`` itself
+    if it has none."""
+    if not re.search(r"^\s*cell \$mem_v2 ", il, re.M):
+        return il
+    # read_rtlil takes the numbering on from the file's autoidx line
+    numbered = re.sub(r"^autoidx \d+$", f"autoidx {MAPPED_AUTOIDX}", il, count=1, flags=re.M)
+    (folder / f"{name}_unmapped.il").write_text(numbered)
+    run_yosys(
+        f"read_rtlil {name}_unmapped.il\nmemory_map\nopt_clean\nwrite_rtlil {name}_mapped.il\n",
+        folder,
+        f"{name}_map",
+    )
+    return (folder / f"{name}_mapped.il").read_text()
+
+
+def _port_widths(il: str, top: str) -> dict[str, tuple[str, int]]:
+    """name -> (direction, width) of every port of ``top`` in the RTLIL ``il``."""
+    body = il.split(f"\nmodule \\{top}\n", 1)[1].split("\nend\n", 1)[0]
+    found = re.findall(r"^\s*wire (?:width (\d+) )?(input|output|inout) \d+ \\(\S+)$", body, re.M)
+    return {name: (direction, int(width or 1)) for width, direction, name in found}
+
+
+def rom_reads(il: str) -> list[tuple[int, int, int, bool]]:
+    """(read ports, address bits, data bits, asynchronous) of each ROM ``cut_roms`` cuts out
+    of the RTLIL ``il``, in its order (ROM k: ``mutation_rom<k>_*``)."""
+    found = []
+    for block in re.findall(r"^\s*cell \$mem_v2 \S+\n(.*?)^\s*end$", il, re.M | re.S):
+        params = dict(re.findall(r"^\s*parameter \\(\w+) (.*)$", block, re.M))
+        if params.get("WR_PORTS") != "0":
+            continue
+        asynchronous = re.fullmatch(r"\d+'0+", params["RD_CLK_ENABLE"]) is not None
+        found.append((int(params["RD_PORTS"]), int(params["ABITS"]), int(params["WIDTH"]),
+                      asynchronous))  # fmt: skip
+    return found
+
+
+def miter_verilog(
+    ports: dict[str, tuple[str, int]], contract: Contract, roms: list[tuple[int, int, int, bool]]
+) -> str:  # fmt: skip
+    """The top of the from-reset proof: ``gold`` and ``gate`` on the same inputs, ``rst_n``
+    held low in the first cycle (``mutation_first``, a register that starts at 1), one
+    assertion: from the second cycle on every output agrees, the data outputs where defined
+    (``Contract``).  The ROMs cut out (``roms``, ``rom_reads``): a read port of an
+    asynchronous ROM gives the mutant what it gives the original wherever their addresses
+    agree (the same table) and anything where they do not (another word of it); a clocked
+    ROM's addresses and enables must agree in every cycle, the first too, and its data is
+    the same in both (as ``_prove`` has it)."""
+    inputs = {n: w for n, (d, w) in ports.items() if d == "input" and n != FIRST}
+    outputs = {n: w for n, (d, w) in ports.items() if d == "output"}
+    data = [n for n in outputs if n in contract.data]
+    agree, gate_in, other = [], {}, {}
+    for k, (nports, abits, width, asynchronous) in enumerate(roms):
+        name = f"mutation_rom{k}"
+        if not asynchronous:
+            agree += [n for n in (f"{name}_addr", f"{name}_en") if n in outputs]
+            continue
+        other[f"{name}_other"] = nports * width
+        gate_in[f"{name}_data"] = "{" + ", ".join(
+            f"gold_{name}_addr[{p * abits + abits - 1}:{p * abits}] == "
+            f"gate_{name}_addr[{p * abits + abits - 1}:{p * abits}] ? "
+            f"{name}_data[{p * width + width - 1}:{p * width}] : "
+            f"{name}_other[{p * width + width - 1}:{p * width}]"
+            for p in reversed(range(nports))
+        ) + "}"  # fmt: skip
+    control = [n for n in outputs if n not in agree and n not in data and not n.endswith("_addr")]
+    lines = ["module mutation_miter ("]
+    lines.append(
+        ",\n".join(f"    input wire [{w - 1}:0] {n}" for n, w in {**inputs, **other}.items())
+    )
+    lines += [
+        ");",
+        "    reg first = 1'b1;",
+        "    always @(posedge clk) first <= 1'b0;",
+        "    wire reset_n = rst_n & ~first;",
+    ]
+    for n, w in outputs.items():
+        lines.append(f"    wire [{w - 1}:0] gold_{n}, gate_{n};")
+    for copy in ("gold", "gate"):
+        given = {n: ("reset_n" if n == "rst_n" else n) for n in inputs}
+        if copy == "gate":
+            given.update(gate_in)
+        conns = [f".{n}({v})" for n, v in given.items()]
+        conns += [f".{FIRST}(first)"] + [f".{n}({copy}_{n})" for n in outputs]
+        lines.append(f"    {copy} {copy}_copy ({', '.join(conns)});")
+    valid = f"gold_{contract.valid}"
+    if contract.held:
+        lines += [
+            "    reg defined = 1'b0;",
+            f"    always @(posedge clk) defined <= reset_n & (defined | {valid});",
+            f"    wire shown = defined | {valid};",
+        ]
+    else:
+        lines.append(f"    wire shown = {valid};")
+    same = lambda names: " && ".join(f"gold_{n} == gate_{n}" for n in names) or "1'b1"  # noqa: E731
+    lines += [
+        f"    wire roms_agree = {same(agree)};",
+        f"    wire control_agrees = {same(control)};",
+        f"    wire data_agrees = !shown || ({same(data)});",
+        "    always @* assert (roms_agree && (first || (control_agrees && data_agrees)));",
+        "endmodule",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+# The module the ABC pass is handed (one gate: the pass calls ABC only with logic to map); the
+# ABC script reads the miter's AIGER instead, and gives the gate back (``backup``/``restore``)
+_ABC_HOST = (
+    "module mutation_abc_host (input a, input b, output y);\n  assign y = a & b;\nendmodule\n"
+)
+
+
+def _prove_from_reset(
+    folder: Path, top: str, gold_il: str, gate_il: str, contract: Contract, timeout: float
+) -> str:
+    """The original ``gold_il`` and the mutant ``gate_il`` (RTLIL, ROMs cut), both from the
+    same power-up state (``shared_power_up``) with ``rst_n`` low in the first cycle and the
+    same inputs from then on: the assertion of ``miter_verilog`` in every cycle, unbounded.
+    Yosys makes the miter's AIGER (``write_aiger -zinit``) and hands it to ABC (linked into
+    the WebAssembly Yosys, reached through its ``abc`` pass with a script of ours): ``scorr``
+    (the registers it proves equal in the two copies by induction from the initial state,
+    merged), then ``pdr`` (property-directed reachability) on what is left, given ``timeout``
+    seconds.  'proven', 'failed' (a counterexample: a trace from reset that tells the two
+    apart, ``pdr_cex.txt``) or 'undecided' (time out).  A verdict is kept for the same
+    netlists, script and time limit."""
+    gold = shared_power_up(_memories_mapped(folder, cut_roms(gold_il), "gold"), top)
+    gate = shared_power_up(_memories_mapped(folder, cut_roms(gate_il), "gate"), top)
+    ports = _port_widths(gold, top)
+    if ports != _port_widths(gate, top):
+        return "undecided"  # not the same flip-flops, or ports: no shared power-up state
+    (folder / "gold_reset.il").write_text(gold)
+    (folder / "gate_reset.il").write_text(gate)
+    (folder / "miter.v").write_text(miter_verilog(ports, contract, rom_reads(gold_il)))
+    (folder / "abc_host.v").write_text(_ABC_HOST)
+    limit = max(1, int(timeout))
+    (folder / "pdr.abc").write_text(
+        f"backup\nread_aiger miter.aig\nstrash\nscorr\nwrite_aiger {REDUCED}\npdr -T {limit}\n"
+        f"write_status {PDR_STATUS}\nwrite_cex -a pdr_cex.txt\nrestore\n"
+    )
+    script = (
+        f"read_rtlil gold_reset.il\nrename {top} gold\n"
+        f"read_rtlil gate_reset.il\nrename {top} gate\n"
+        "read_verilog -formal miter.v\nhierarchy -top mutation_miter\n"
+        "proc\nchformal -lower\nflatten\nmemory_map\n"
+        # x constants (none but in the ROMs' parameters) and undriven bits: free in each copy
+        "techmap\nsetundef -undriven -anyseq\nopt -fast -keepdc\ndffunmap\naigmap\nopt_clean\n"
+        "write_aiger -zinit miter.aig\n"
+        "design -reset\nread_verilog abc_host.v\nhierarchy -top mutation_abc_host\nproc\ntechmap\n"
+        "abc -script pdr.abc\n"
+    )
+    (folder / "reset.ys").write_text(script)
+    digest = hashlib.sha256(repr((script, timeout, contract)).encode())
+    for name in ("gold_reset.il", "gate_reset.il", "miter.v", "pdr.abc"):
+        digest.update((folder / name).read_bytes())
+    verdicts = folder.parent / "verdicts.json"
+    known = json.loads(verdicts.read_text()) if verdicts.exists() else {}
+    key = digest.hexdigest()
+    if key in known:
+        return str(known[key])
+    for name in (PDR_STATUS, REDUCED):
+        (folder / name).unlink(missing_ok=True)
+    try:
+        ran = subprocess.run(
+            [yosys_exe(), "-q", "-l", "reset.log", "-s", "reset.ys"],
+            capture_output=True,
+            text=True,
+            cwd=folder,
+            timeout=timeout + 60,  # the conversion, scorr, and ABC's own limit overrun
+        )
+        done = ran.returncode == 0 and (folder / PDR_STATUS).exists()
+    except subprocess.TimeoutExpired:
+        done = False
+    status = (folder / PDR_STATUS).read_text().split() if done else []
+    verdict = {"snl_UNSAT": "proven", "snl_SAT": "failed"}.get(status[0] if status else "", "")
+    if not verdict:
+        verdict = "proven" if done and _constant_false(folder / REDUCED) else "undecided"
+    with _verdict_lock:
+        known = json.loads(verdicts.read_text()) if verdicts.exists() else {}
+        known[key] = verdict
+        verdicts.write_text(json.dumps(known, indent=1) + "\n")
+    return verdict
+
+
+def prove_from_reset(
+    folder: Path, top: str, design_il: Path, command: str, contract: Contract,
+    timeout: float = PDR_TIMEOUT,
+) -> str:  # fmt: skip
+    """The third proof alone (``_prove_from_reset``) of the design ``design_il`` with the
+    mutation ``command`` against the original, in ``folder``: 'proven', 'failed' or
+    'undecided'."""
+    folder.mkdir(parents=True, exist_ok=True)
+    original = os.path.relpath(design_il, folder)
+    run_yosys(f"read_rtlil {original}\n{command}\nwrite_rtlil gate.il\n", folder, "mutate")
+    gold, gate = design_il.read_text(), (folder / "gate.il").read_text()
+    return _prove_from_reset(folder, top, gold, gate, contract, timeout)
+
+
 def equivalence(
     folder: Path, top: str, design_il: Path, command: str, unit: bool, seq: int = 4,
-    timeout: float = 90,
+    timeout: float = 90, contract: Contract | None = None, pdr_timeout: float = PDR_TIMEOUT,
+    earlier: bool = True,
 ) -> str | None:  # fmt: skip
     """Prove the design ``design_il`` (RTLIL, module ``top``) with the mutation ``command``
     equal to the original, the ROMs cut (``cut_roms``), in ``folder``: every matched named
-    wire equal in every cycle (``_prove``); ``unit``: the second method may be tried.
+    wire equal in every cycle (``_prove``); ``unit``: the second method may be tried;
+    ``contract``: the third.
 
     First method: every named wire is matched but the one the mutation drives (a dead bit
     differs there and nowhere else).  Second (a unit): the named wires the mutation reaches up
     to the next registers and on to the registers after them are left out, and each is matched
     as what it shows while the unit is busy (``observed``): a register the mutation changes
-    only while the unit is idle, which the next start loads again.  The method's text, or None
-    if neither proves it."""
+    only while the unit is idle, which the next start loads again.  Third: from reset, the
+    outputs as ``contract`` defines them, by ABC's ``pdr`` (``_prove_from_reset``, given
+    ``pdr_timeout`` seconds): what holds only in the states a reset leads to (a counter's
+    bound, a stage register read only while its valid bit is set); ``earlier`` = False: the
+    third alone (the others already failed on it).  The method's text, or None if none
+    proves it."""
     if mutate_field(command, "port") in CLOCK_PORTS:
         # SAT steps every flip-flop on one clock: a clock mutation is out of its reach, unless
         # the cell never reads that clock
@@ -297,21 +613,29 @@ def equivalence(
     gold, gate = design_il.read_text(), (folder / "gate.il").read_text()
     (folder / "gold_cut.il").write_text(cut_roms(gold))
     (folder / "gate_cut.il").write_text(cut_roms(gate))
-    unmatched = _prove_local(folder, top, [mutate_field(command, "wire")], seq, timeout)
+    wire = [mutate_field(command, "wire")]
+    unmatched = _prove_local(folder, top, wire, seq, timeout) if earlier else None
     if unmatched is not None:
         but = f" but {', '.join(unmatched)}" if unmatched else ""
         return f"equiv_simple -seq {seq} from any shared state, every named wire matched{but}"
-    if _prove(folder, top, [mutate_field(command, "wire")], seq, timeout):
+    if earlier and _prove(folder, top, wire, seq, timeout):
         return f"sat -tempinduct (to {seq} cycles), every named wire but the mutated one matched"
-    if not unit:
+    if unit and earlier:
+        fanout = [
+            line.split("/", 1)[1]
+            for line in (folder / "fanout.txt").read_text().splitlines()
+            if "/" in line and not line.split("/", 1)[1].startswith("$")
+        ]
+        (folder / "gold_cut.il").write_text(observed(cut_roms(gold), top, fanout, BUSY))
+        (folder / "gate_cut.il").write_text(observed(cut_roms(gate), top, fanout, BUSY))
+        if _prove(folder, top, fanout, seq, timeout):
+            return f"sat -tempinduct (to {seq} cycles), the mutation's fanout matched while {BUSY}"
+    if contract is None:
         return None
-    fanout = [
-        line.split("/", 1)[1]
-        for line in (folder / "fanout.txt").read_text().splitlines()
-        if "/" in line and not line.split("/", 1)[1].startswith("$")
-    ]
-    (folder / "gold_cut.il").write_text(observed(cut_roms(gold), top, fanout, BUSY))
-    (folder / "gate_cut.il").write_text(observed(cut_roms(gate), top, fanout, BUSY))
-    if _prove(folder, top, fanout, seq, timeout):
-        return f"sat -tempinduct (to {seq} cycles), the mutation's fanout matched while {BUSY}"
-    return None
+    verdict = _prove_from_reset(folder, top, gold, gate, contract, pdr_timeout)
+    if verdict != "proven":
+        return None
+    return (
+        f"scorr and pdr from reset, the same power-up state: every output equal after reset, "
+        f"{', '.join(contract.data)} where defined"
+    )

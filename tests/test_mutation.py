@@ -6,10 +6,12 @@ Quick tier: a fixed sample of the divider's and the Gouraud unit's lists (``SAMP
 spread evenly over the ones the record says are killed) through the same netlist and bench:
 mutant 0, the original, passes every check (``run_design`` stops otherwise), every sampled
 mutant is killed, by the check the record names, and the list Yosys makes now is the one the
-record was made from.  The docs' table is the record's.  Slow tier: every mutant of every list
-the record does not prove equivalent through the checks (the specular unit's and the core's
-netlists take minutes to build, so they have no sample of their own), the same kills as the
-record and the rest its survivors.
+record was made from.  The docs' table is the record's.  The proof from reset
+(``mutation_proof.prove_from_reset``) finds a counterexample for a Gouraud mutant a check kills
+and proves the survivor of the other proofs the record says it proves.  Slow tier: every
+mutant of every list the record does not prove equivalent through the checks (the specular
+unit's and the core's netlists take minutes to build, so they have no sample of their own),
+the same kills as the record and the rest its survivors.
 """
 
 from __future__ import annotations
@@ -19,7 +21,7 @@ from pathlib import Path
 
 import pytest
 
-from sim import mutation, mutation_checks, mutation_report, units, vector_sets
+from sim import mutation, mutation_checks, mutation_proof, mutation_report, units, vector_sets
 from sim.runner import SIM_BUILD
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -87,6 +89,50 @@ def test_the_whole_list_gives_the_record_s_figures(name: str) -> None:
     assert got == rec["killed_by"], name
     alive = sorted(o.id for o in report.outcomes if not o.killed_by)
     assert alive == sorted(o["id"] for o in rec["survivors"])
+
+
+# The from-reset proof (mutation_proof.prove_from_reset) on the Gouraud unit's list: a mutant
+# the record says a check kills (15: by a soak, after the committed set passed it) and a
+# survivor of the other proofs the record has it prove (33: seg_reg bit 8, dead because a line
+# has at most 256 segments), a few seconds each
+FROM_RESET_KILLED, FROM_RESET_PROVEN = 15, 33
+
+
+@pytest.fixture(scope="module")
+def gouraud_list() -> mutation.Netlist:
+    return mutation.prepare(mutation.DESIGNS["gouraud_segment"], BUILD)
+
+
+def test_the_from_reset_proof_finds_a_killed_mutant_s_counterexample(
+    gouraud_list: mutation.Netlist, tmp_path: Path
+) -> None:
+    """Sound: a mutant a check kills is not proven, pdr finds the trace from reset that tells
+    it from the original."""
+    rec = _record()["designs"]["gouraud_segment"]
+    assert rec["killed_by"][str(FROM_RESET_KILLED)] != rec["vector_set"]
+    design = mutation.DESIGNS["gouraud_segment"]
+    command = gouraud_list.mutations[FROM_RESET_KILLED - 1].command
+    verdict = mutation_proof.prove_from_reset(
+        tmp_path / "killed", design.top, gouraud_list.design_il, command, design.contract, 60
+    )
+    assert verdict == "failed"
+
+
+def test_the_from_reset_proof_proves_a_survivor_of_the_others(
+    gouraud_list: mutation.Netlist, tmp_path: Path
+) -> None:
+    """The record's mutant it proves: equal from reset, where no proof from any shared state
+    can show it (the bound on seg_reg holds only in the states a reset leads to)."""
+    rec = _record()["designs"]["gouraud_segment"]
+    (listed,) = [o for o in rec["equivalent"] if o["id"] == FROM_RESET_PROVEN]
+    assert listed["equivalent"].startswith("scorr and pdr from reset")
+    design = mutation.DESIGNS["gouraud_segment"]
+    command = gouraud_list.mutations[FROM_RESET_PROVEN - 1].command
+    assert command == listed["command"]
+    verdict = mutation_proof.prove_from_reset(
+        tmp_path / "proven", design.top, gouraud_list.design_il, command, design.contract, 60
+    )
+    assert verdict == "proven"
 
 
 def test_operand_bit_jobs_show_every_bit_of_the_divider_s_operands() -> None:
