@@ -31,7 +31,7 @@ from numba import njit
 
 from model.units import brdf, divider, gouraud, specular
 from model.units.brdf import FixedConfig
-from model.units.brdf.unit import scale_kernel
+from model.units.brdf import lines as brdf_lines
 from model.units.divider import DividerConfig
 from model.units.gouraud import GouraudConfig
 from model.units.specular import N_MAX, SpecularConfig
@@ -167,43 +167,14 @@ def _n_valid(cfg: SpecularConfig) -> np.ndarray:
     return np.array([specular.n_valid(n, cfg) for n in range(1 << units.N_WIDTH)])
 
 
-@njit(cache=True)
-def _brdf_scale_kernel(
-    words: np.ndarray, c: np.ndarray, ok: np.ndarray, base: np.ndarray, shift: int,
-    out_max: int, out: np.ndarray,
-) -> None:  # fmt: skip
-    """Each job with n in 1..1000: its pixels' output words x C, rounded and saturated
-    (``scale_kernel``, as ``brdf.unit_line``); the others' pixels stay 0."""
-    for j in range(c.size):
-        if ok[j]:
-            a, b = base[j], base[j + 1]
-            scale_kernel(words[a:b], c[j], shift, out_max, out[a:b])
-
-
-def _brdf_results(
-    cfg: FixedConfig, job_ops: np.ndarray, base: np.ndarray, counts: np.ndarray
-) -> np.ndarray:
-    """The BRDF unit's (intensity, n_err) rows of every job: zeta(i) = z0 + i dz per pixel
-    (exact in int64: the accumulator never wraps), the form's word from ``brdf.evaluate`` once
-    per n over all pixels of the jobs with that n, then x C per job."""
-    c, dz, z0, n = (np.ascontiguousarray(job_ops[:, i]) for i in range(4))
-    total = int(base[-1])
-    ok = (n >= 1) & (n <= N_MAX)
-    step = np.arange(total, dtype=np.int64) - np.repeat(base[:-1], counts)
-    zeta = np.repeat(z0, counts) + step * np.repeat(dz, counts)
-    pixel_n = np.where(np.repeat(ok, counts), np.repeat(n, counts), 0)
-    words = np.zeros(total, dtype=np.int64)
-    order = np.argsort(pixel_n, kind="stable")
-    values, first = np.unique(pixel_n[order], return_index=True)
-    ends = [*first[1:].tolist(), total]
-    for v, a, b in zip(values.tolist(), first.tolist(), ends, strict=True):
-        if v:
-            at = order[a:b]
-            words[at] = brdf.evaluate(cfg, zeta[at], v)
-    out = np.zeros(total, dtype=np.int64)
-    a = cfg.angle
-    _brdf_scale_kernel(words, c, ok, base, a.c_frac_bits + cfg.out_bits, a.out_max, out)
-    return np.stack([out, np.repeat((~ok).astype(np.int64), counts)], axis=1)
+def _brdf_results(cfg: FixedConfig, job_ops: np.ndarray, counts: np.ndarray) -> np.ndarray:
+    """The BRDF unit's (intensity, n_err) rows of every job: its lines through
+    ``brdf.lines.shade_lines`` (row for row ``brdf.unit_line``), n_err on every pixel of a job
+    whose n is outside 1..1000."""
+    c, dz, z0, n, length = (np.ascontiguousarray(job_ops[:, i]) for i in range(5))
+    pixels = brdf_lines.shade_lines(c, dz, z0, n, length, cfg).pixels
+    bad = ((n < 1) | (n > N_MAX)).astype(np.int64)
+    return np.stack([pixels, np.repeat(bad, counts)], axis=1)
 
 
 def results(cfg: units.UnitConfig, job_ops: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -227,7 +198,7 @@ def results(cfg: units.UnitConfig, job_ops: np.ndarray) -> tuple[np.ndarray, np.
         _gouraud_kernel(i0, di, length, base, cfg.p, cfg.round_bias, cfg.i_frac, cfg.out_max, table)
         return base, table
     if isinstance(cfg, FixedConfig):
-        return base, _brdf_results(cfg, job_ops, base, counts)
+        return base, _brdf_results(cfg, job_ops, counts)
     c, dz, z0, n, length = (np.ascontiguousarray(job_ops[:, i]) for i in range(5))
     ok = _n_valid(cfg)[n] if len(n) else np.zeros(0, dtype=bool)
     values = np.zeros(total, dtype=np.int64)
