@@ -53,8 +53,10 @@ model-test: setup
 
 # Every cocotb regression under Icarus (SIM=verilator: Verilator, which cocotb 2.x wants at 5.036 or
 # later; sim/runner.py refuses an older one by name); WAVES=1 make sim dumps FST waveforms in sim_build/
+# SIMS narrows it (.ci/run: "sim and not (sim_fixed and not slow)", after make test ran those)
+SIMS ?= sim
 sim: setup tools
-	$(PYTEST) -n $(JOBS) -m sim tests
+	$(PYTEST) -n $(JOBS) -m "$(SIMS)" tests
 
 # Every RTL file as Verilog-2005 (docs/fpga.md, "Dialect and lint"), each top from its .f list:
 # Verilator -Wall in its default (SystemVerilog) mode and in 1364-2005 mode, Icarus -g2005 -Wall

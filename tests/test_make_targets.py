@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: Apache-2.0
 """Every command the README documents goes through its own code path in CI.
 
-CI (``.ci/run``) runs ``make test``, ``make test-slow`` (but its ``sim_fixed`` tests) and
-``SIM=verilator make sim`` whole (the ``sim_fixed`` tests among them).
+CI (``.ci/run``) runs ``make test``, ``make test-slow`` and ``SIM=verilator make sim``, each
+``sim_fixed`` test (its simulators do not come from SIM) once: the quick ones in the first, the
+slow ones in the last.
 Every other make target the README's table lists is short enough to run whole in a test, or
 runs as a quick subset of the same code path (the same module and function the target calls,
 on a smaller input): ``EXERCISED`` names, per target, the tests that do it.  The tests here

@@ -467,7 +467,9 @@ def test_the_up5k_specular_configuration_places_and_routes_on_the_up5k(
     assert r.target_mhz == 40 and r.meets_target and r.fmax_mhz >= 40, r.fmax_mhz
 
 
-@pytest.mark.parametrize("config", ["default", "hybrid"])
+# "default" holds both paths; "hybrid" (the highlight path alone, a subset of its hardware) is
+# placed and routed by make synth, whose record row (docs/synth.json) it fails on a missed target
+@pytest.mark.parametrize("config", ["default"])
 def test_the_core_places_and_routes_on_the_ecp5(
     config: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

