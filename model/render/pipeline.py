@@ -147,9 +147,7 @@ class PipelineConfig:
                 "makes the highlight only; legal are specular_mode unit or adaptive with "
                 "diffuse_mode gouraud"
             )
-        fields = ("c_int_bits", "c_frac_bits", "z_int_bits", "z_frac_bits", "len_width",
-                  "out_width")  # fmt: skip
-        for name in fields:
+        for name in brdf_unit.ANGLE_FIELDS:
             got, want = getattr(self.brdf.angle, name), getattr(self.specular, name)
             if got != want:
                 raise ValueError(

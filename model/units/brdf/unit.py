@@ -37,6 +37,9 @@ from model.units.brdf.fixed import (
 )
 from model.units.specular import N_MAX, N_WIDTH
 
+ANGLE_FIELDS = ("c_int_bits", "c_frac_bits", "z_int_bits", "z_frac_bits", "len_width", "out_width")
+"""The fields of ``FixedConfig.angle`` that reach the unit (each an RTL parameter); the rest of
+that ``SpecularConfig`` changes nothing here."""
 FRONT_STAGES = 7
 """Clock edges of every form's front and back: the accumulator, |zeta| in two steps, the
 angle-table address, the table read, the w gate (w = 2**D from pi/2 on), and x C; the

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 from model.units.brdf.fixed import FixedConfig, table_bits
 from model.units.brdf.unit import (
+    ANGLE_FIELDS,
     FORM_LATENCY,
     FRONT_STAGES,
     UNIT_CONFIGS,
@@ -23,8 +24,6 @@ from model.units.brdf.unit import (
 )
 from model.units.specular import DEFAULT, N_MAX, N_WIDTH, SpecularConfig
 
-ANGLE_FIELDS = ("c_int_bits", "c_frac_bits", "z_int_bits", "z_frac_bits", "len_width", "out_width")
-"""The angle format's fields the unit has a parameter for (``FixedConfig.angle``)."""
 PROBE = range(-2, 80)
 """The values tried for each width when the legal range is looked for."""
 
