@@ -9,13 +9,15 @@ from __future__ import annotations
 
 import dataclasses
 import hashlib
+import json
 
 import numpy as np
 import pytest
 
 from model.render import core, pipeline, scenefile
 from model.study import trade
-from model.units import divider, gouraud, specular
+from model.study.trade import hardware
+from model.units import brdf, divider, gouraud, specular
 
 TINY = 32
 
@@ -28,7 +30,8 @@ def test_key_is_stable_and_canonical():
     assert trade.TradePoint(highlight_levels=1).key == trade.TradePoint(highlight_levels=1.0).key
     assert len(p.key) == 16 and int(p.key, 16) >= 0
     canonical = (
-        '{"alpha":"taylor","diffuse_mode":"gouraud","highlight_levels":0.5,"k_set":"patent","p":8,"recip_bits":20,'
+        '{"alpha":"taylor","brdf":"none","diffuse_mode":"gouraud","highlight_levels":0.5,'
+        '"k_set":"patent","p":8,"recip_bits":20,'
         '"rom_addr_bits":12,"rom_data_bits":16,"scene":"sphere","size":32,'
         f'"specular_mode":"unit","version":{trade.CACHE_VERSION},"z_frac_bits":26}}'
     )
@@ -68,6 +71,7 @@ def test_default_point_is_the_default_pipeline():
         ("specular_mode", "adaptive", lambda c: c.specular_mode),
         ("highlight_levels", 2.0, lambda c: c.highlight_levels),
         ("diffuse_mode", "unit", lambda c: c.diffuse_mode),
+        ("brdf", "quadratic", lambda c: c.brdf and c.brdf.form),
     ],
 )
 def test_each_knob_maps_to_its_config_field(knob, value, field):
@@ -85,7 +89,7 @@ def _set(base: pipeline.PipelineConfig, field, cfg: pipeline.PipelineConfig):
     for unit in ("divider", "gouraud", "specular"):
         if getattr(cfg, unit) != getattr(base, unit):
             base = dataclasses.replace(base, **{unit: getattr(cfg, unit)})
-    for top in ("specular_mode", "highlight_levels", "diffuse_mode"):
+    for top in ("specular_mode", "highlight_levels", "diffuse_mode", "brdf"):
         if getattr(cfg, top) != getattr(base, top):
             base = dataclasses.replace(base, **{top: getattr(cfg, top)})
     return base
@@ -111,6 +115,154 @@ def test_small_grid_isolates_each_knob():
         )
     assert {k for p in points for k in p.changed_knobs()} == set(trade.KNOBS)
     assert len(trade.grid_points("small", ["sphere", "quad"], 64)) == 2 * len(configs)
+
+
+# ------------------------------------------------------------------------------ BRDF family
+def test_brdf_knob_puts_each_form_in_the_highlight():
+    """``brdf``: "none" (the patent's unit, the default) or each form with RTL, never a list of
+    its own: the form's default unit with the point's specular configuration as its angle
+    format (so the angle knobs reach it), synthesised as the BRDF unit instead of the specular
+    unit, in the small grid at the default other knobs, and in every key."""
+    assert ("none", *brdf.RTL_FORMS) == trade.BRDF_CHOICES
+    assert trade.DEFAULT_POINT.brdf == "none"
+    assert trade.DEFAULT_POINT.to_pipeline_config().brdf is None
+    small = [trade.DEFAULT_POINT.with_knobs(**c) for c in trade.grid_configs("small")]
+    assert {p.brdf for p in small if p.changed_knobs() == {"brdf": p.brdf}} == set(brdf.RTL_FORMS)
+    keys = {trade.DEFAULT_POINT.key}
+    for form in brdf.RTL_FORMS:
+        p = trade.TradePoint(brdf=form)
+        cfg = p.to_pipeline_config()
+        assert cfg == pipeline.BRDF_METHODS[form]  # the demo's method of that form
+        assert cfg.brdf == brdf.UNIT_CONFIGS[form] and cfg.brdf.angle == cfg.specular
+        assert p.label == f"brdf={form}" and p.family == form
+        assert hardware.unit_configs(cfg) == [
+            ("divider_shift", cfg.divider),
+            ("gouraud_segment", cfg.gouraud),
+            ("brdf_unit", cfg.brdf),
+        ]
+        narrow = p.with_knobs(z_frac_bits=18, specular_mode="adaptive").to_pipeline_config()
+        assert narrow.brdf.angle == narrow.specular and narrow.brdf.angle.z_frac_bits == 18
+        keys |= {p.key, p.config_key}
+    assert len(keys) == 1 + 2 * len(brdf.RTL_FORMS)  # another key per form, and per config
+    full = [trade.DEFAULT_POINT.with_knobs(**c) for c in trade.grid_configs("full")]
+    assert {p.brdf for p in full} == set(trade.BRDF_CHOICES)
+    for p in full:  # what a BRDF point varies reaches its unit
+        if p.brdf != "none":
+            assert set(p.changed_knobs()) - {"brdf"} <= set(trade.BRDF_KNOBS)
+
+
+def test_bad_brdf_knob_is_one_clear_message():
+    """A bad value names the knob, the value and every legal value; a combination a BRDF unit
+    refuses names the knobs (the grid never holds one: ``grid_points`` checks every point)."""
+    legal = " | ".join(repr(v) for v in trade.BRDF_CHOICES)
+    with pytest.raises(ValueError) as err:
+        trade.TradePoint(brdf="phong")
+    assert str(err.value) == f"brdf = 'phong' is not legal: legal values are {legal}"
+    form = brdf.RTL_FORMS[0]
+    for other in ({"specular_mode": "vertex"}, {"diffuse_mode": "unit"}):
+        with pytest.raises(ValueError, match=rf"brdf = '{form}' is out of range with specular_mo"):
+            trade.TradePoint(brdf=form, **other)
+    with pytest.raises(ValueError, match=rf"brdf = '{form}' is out of range with z_frac_bits = 8"):
+        trade.TradePoint(brdf=form, z_frac_bits=8).to_pipeline_config()
+
+
+def test_brdf_config_file_keeps_its_unit():
+    """A configuration file with a ``[brdf]`` table is a point of that family, run as written."""
+    from model.render import configfile
+
+    for form, cfg in pipeline.BRDF_METHODS.items():
+        point = trade.ConfigPoint.from_config("config:b", cfg, "sphere", 16)
+        assert point.brdf == form and point.to_pipeline_config() == cfg
+        assert json.loads(point.config_json) == configfile.config_dict(cfg)
+
+
+def test_brdf_points_figures_and_the_front_across_families(tmp_path):
+    """A BRDF point's figures are its unit's: the table bits brdf.table_bits (not ROM 9 + ROM
+    12), the epicentre error the unit's own (fixed_accuracy against cos^n, n = 2..1000), its
+    highlight cycles its fill latency's, no shading-core throughput (the core takes the patent's
+    unit only), no hardware Mpx/s; the fronts are over every family and say which."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.text import Annotation
+
+    forms = brdf.RTL_FORMS
+    configs = [{}, {"specular_mode": "vertex"}, *({"brdf": f} for f in forms)]
+    points = [trade.TradePoint(scene="sphere", size=TINY, **c) for c in configs]
+    out = trade.run_sweep(points, tmp_path / "cache", workers=0, progress=False, repeats=1)
+    assert out.failed == {}
+    patent, _vertex, *forms_r = out.results
+    for form, r in zip(forms, forms_r, strict=True):
+        cfg = trade.TradePoint(brdf=form).to_pipeline_config()
+        assert r["brdf"] == form and r["label"] == f"brdf={form}"
+        assert r["table_bits"] == divider.DEFAULT.rom_bits + brdf.table_bits(cfg.brdf)["total"]
+        assert r["table_bits"] != patent["table_bits"]
+        worst, n, _ = brdf.fixed_accuracy(cfg.brdf).worst("rel_cos", 2)
+        assert (r["epicentre_rel_error"], r["epicentre_worst_n"]) == (worst, n)
+        assert np.isnan(r["unit_error_lsb"]) and np.isnan(r["epicentre_out_lsb"])
+        # The same highlight jobs, each its unit's fill latency longer or shorter.
+        assert r["specular_pixels"] == patent["specular_pixels"] > 0
+        fill, fill_p = brdf.cycles(0, cfg.brdf), specular.cycles(0)
+        jobs = (patent["specular_cycles"] - patent["specular_pixels"]) // fill_p
+        assert r["specular_cycles"] - r["specular_pixels"] == jobs * fill
+        assert np.isnan(r["core_clocks"]) and np.isnan(r["px_per_clock_core"])
+        assert r["frame_clocks"] == trade.frame_clocks(r)
+        assert r["multipliers"] == 3 and r["adders"] == patent["adders"] + 2
+        assert trade.check_result(trade.TradePoint(scene="sphere", size=TINY, brdf=form), r) is None
+    # hw Mpx/s: the core's px/clk x Fmax, so none for a BRDF configuration
+    figures = {r["config_key"]: {k: 1 for k in trade.HW_FIELDS[:-1]} for r in out.results}
+    for r in trade.attach(out.results, figures, "ecp5-25f"):
+        assert np.isnan(r["hw_mpx_per_s"]) == (r["brdf"] != "none")
+    rows, _ = trade.write_outputs(out.results, tmp_path / "trade")
+    by = {r["label"]: r for r in rows}
+    assert [by[f"brdf={f}"]["family"] for f in forms] == list(forms)
+    assert by["default"]["family"] == "cos^k"
+    fronts = trade.front_families(rows)
+    assert {fam for fam in ("cos^k", *forms)} >= {f for m in fronts.values() for _, f in m}
+    bits = fronts["NMSE vs table bits"]
+    assert len({f for _, f in bits}) >= 2, bits  # the table-bits front spans the families
+    assert all(f == "cos^k" for _, f in fronts["NMSE vs throughput"])
+    md = (tmp_path / "trade" / "results.md").read_text()
+    assert "## The fronts across families" in md and "| config | family |" in md
+    line = next(x for x in md.splitlines() if x.startswith("* NMSE vs table bits: "))
+    assert all(f"{label} ({fam})" in line for label, fam in bits)
+    fig, ax = plt.subplots(figsize=(6, 4), dpi=100)
+    trade.plot_pareto(rows, "table_bits", ax=ax)
+    labels = {t.get_text() for t in ax.texts if isinstance(t, Annotation)}
+    on = {r["brdf"] for r in rows if r["pareto_bits"] and r["brdf"] != "none"}
+    assert on and on <= labels  # a BRDF point's label is its form
+    legend = {h.get_label() for h in ax.collections}
+    assert {f"family {f}" for f in ("cos^k", *forms)} <= legend
+    plt.close(fig)
+
+
+def test_old_or_other_family_cache_entries_are_not_read(tmp_path):
+    """The knob is in every key and the figures' definitions changed with it (CACHE_VERSION): an
+    entry of the patent's point, or one written before the knob, is never read as a BRDF one."""
+    p = trade.TradePoint(scene="sphere", size=TINY)
+    q = p.with_knobs(brdf=brdf.RTL_FORMS[0])
+    assert p.key != q.key and trade.cache_path(tmp_path, p) != trade.cache_path(tmp_path, q)
+    result = {
+        **dataclasses.asdict(q),
+        "key": q.key,
+        "config_key": q.config_key,
+        "label": q.label,
+        **{f: 1 if kind == "int" else 1.0 for f, (kind, *_) in trade.RESULT_RANGES.items()},
+    }
+    trade.store(tmp_path, q, result)
+    assert trade.load_cached(tmp_path, q) == result
+    path = trade.cache_path(tmp_path, q)
+    old = json.loads(path.read_text())
+    old["version"] = trade.CACHE_VERSION - 1
+    path.write_text(json.dumps(old))
+    assert trade.read_cached(tmp_path, q) == (
+        None,
+        f"version = {trade.CACHE_VERSION - 1}, expected {trade.CACHE_VERSION}",
+    )
+    trade.store(tmp_path, p, {**result, **dataclasses.asdict(p), "key": p.key})
+    path.write_text(trade.cache_path(tmp_path, p).read_text())  # p's entry under q's name
+    assert trade.read_cached(tmp_path, q) == (None, "holds the result of another point")
 
 
 # ------------------------------------------------------------------------------ the engine

@@ -26,6 +26,21 @@ same bit-exact pipeline as ``make demo`` with other configurations, never specia
 | ``specular_mode`` | ``PipelineConfig.specular_mode`` (unit, adaptive, vertex) | unit |
 | ``highlight_levels`` | ``PipelineConfig.highlight_levels`` (adaptive threshold) | 0.5 |
 | ``diffuse_mode`` | ``PipelineConfig.diffuse_mode`` (gouraud, unit, adaptive) | gouraud |
+| ``brdf`` | ``PipelineConfig.brdf`` (the highlight's unit: ``BRDF_CHOICES``) | none |
+
+``brdf`` is the BRDF family: "none", the patent's cos^k specular unit, or a form of
+``brdf.unit.RTL_FORMS`` (read, never listed here: a form given RTL is a value at once), whose
+default unit (``brdf.unit.UNIT_CONFIGS``) takes the highlight jobs with ``angle`` = the point's
+specular configuration, so ``z_frac_bits`` reaches it; ``rom_addr_bits``, ``rom_data_bits``,
+``k_set`` and ``alpha`` are the patent unit's tables and change nothing there (no grid varies them
+with a BRDF unit: ``BRDF_KNOBS``).  A BRDF unit makes the highlight only: a point with
+``specular_mode`` vertex or a ``diffuse_mode`` other than gouraud is refused (``ValueError``
+naming the knobs) and no grid holds one; nor a form whose angle table is wider than
+``z_frac_bits`` (``to_pipeline_config``).  The small grid has every form at the default other
+knobs, the full grid each form x ``z_frac_bits`` 18/22/26 x ``recip_bits`` 14/20
+(``FULL_BRDF_PRODUCT``).  Every family is on one set of fronts; each row names its ``family``
+("cos^k" or the form), the plots mark it (one marker per family, a BRDF point's label starts
+with its form) and results.md lists each front's points with their family.
 
 ``SpecularConfig.a_int_bits`` follows from the k-set and alpha: the narrowest integer part that
 holds the largest a (3 bits for k = 16 tables, 5 for the prototype's cos^2: a up to 22.4).
@@ -43,7 +58,13 @@ NMSE, PSNR, max error, highlight max error; the worst epicentre relative error o
 ROM-12 path against cos^n over n = 1..1000 (``specular.fixed_point_accuracy``: where
 cos^n >= 1/255; computed once per specular configuration, it does not depend on the scene); the
 worst-case line drift of the divider + Gouraud increment over the longest line (levels; the
-divider's figure that short scene spans cannot show); and cost:
+divider's figure that short scene spans cannot show); and cost.  With a BRDF unit
+(``sweep.accuracy_figures``): the epicentre error is the unit's own worst, its output word F
+against cos^n over n = 2..1000 and every angle register value of the epicentre
+(``brdf.fixed_accuracy``'s ``rel_cos``, the same range and floor as the patent's figure); the
+LSB figures (``epicentre_out_lsb``, ``unit_error_lsb``) are NaN (that analysis measures F before
+x C, not the output at full-scale C); the angle drift is in angle-table address steps
+(``cos_addr_bits``, a = 1).  Cost:
 
 * ``cycles``: unit cycles per frame, the sum of the busy-plus-restart clocks of every job of every
   unit (``pipeline.unit_counters``; the diffuse jobs of ``diffuse_mode`` unit/adaptive, which
@@ -56,7 +77,12 @@ divider's figure that short scene spans cannot show); and cost:
   cycles equal them on every built-in scene and method: tests/test_core.py).  The count does
   not depend on the knobs: the core makes one pixel per clock whatever P, N, the widths or the
   modes.  ``px_per_clock_core`` = shaded pixels / ``core_clocks``: the throughput the study
-  reports (the Pareto front's axis and the hardware's Mpx/s).
+  reports (the Pareto front's axis and the hardware's Mpx/s).  A BRDF point has neither (NaN):
+  the core takes the patent's unit only, and a core with a BRDF unit is neither built nor
+  simulated, so no clock count of it is measured; such a point is on no throughput front and
+  has no ``hw_mpx_per_s``.  Its ``frame_clocks`` (below, with the BRDF unit as the highlight
+  unit) and ``cycles`` stand, from ``pipeline.unit_counters`` (its highlight jobs at the BRDF
+  unit's own fill latency, ``brdf.cycles``).
 * ``frame_clocks`` (the earlier estimate, kept as a column; ``trade.frame_clocks`` is also what
   ``model.study.adaptive`` counts): the units in parallel on a stream of spans, one divider and
   one Gouraud unit per colour channel (3 each) and one specular unit (white highlight, and the
@@ -65,11 +91,13 @@ divider's figure that short scene spans cannot show); and cost:
 * ``px_per_clock`` = shaded pixels / ``cycles``; ``px_per_clock_parallel`` = shaded pixels /
   ``frame_clocks``.
 * ``table_bits``: one copy of every ROM (``report.table_bits``: divider reciprocals, and ROM 9 +
-  ROM 12 unless the specular unit is left out).
+  ROM 12 unless the specular unit is left out, or the BRDF unit's tables, ``brdf.table_bits``).
 * ``adders``, ``multipliers``: the datapath arithmetic of the units in the parallel picture:
   3 dividers x 1 accumulating adder, 3 Gouraud units x ``gouraud.adder_counts(P)["total"]``
   (increment network, segment lanes, rounding bias), 1 specular unit x (1 accumulator adder, 2
-  multipliers: x a and x C), no specular unit in "vertex" mode with the Gouraud diffuse term.
+  multipliers: x a and x C), no specular unit in "vertex" mode with the Gouraud diffuse term;
+  or 1 BRDF unit x (``sweep.BRDF_ADDERS``, counted in rtl/brdf_<form>.v: 3 adders; its 3
+  multipliers, ``brdf.multipliers``: the form's two and C x F; NaN for a form not counted yet).
   Rounding increments, comparators, saturation and the final sum-and-saturate are not counted.
   ``mult_bits``: the multipliers' partial-product bits (width x width), a proxy for their area.
 * ``sw_pixels_per_second``: shaded pixels per second of the software model, best of ``repeats``
@@ -88,21 +116,27 @@ folders, the lock and the scheduler (``CONNECT_TIMEOUT``) before any work (``Set
 
 **Synthesised cost** (``--part``, default ``hardware.DEFAULT_PART``; None/"none": skipped):
 every distinct unit configuration the sweep uses through ``model.hw.synthesise`` on the same
-Dask cluster (``hardware.run_synthesis``); per configuration LUT, FF, BRAM, DSP (the units'
+Dask cluster (``hardware.run_synthesis``; a BRDF point's highlight unit is ``brdf_unit`` at its
+``FixedConfig``, as ``make synth`` places it); per configuration LUT, FF, BRAM, DSP (the units'
 sums), Fmax (the slowest synthesised unit's: still the units', not the shading core's own, which
 is synthesised for its named configurations only, ``sim/synth_tops.py``) and ``hw_mpx_per_s`` =
-``px_per_clock_core`` x Fmax.  Without synthesis the throughput axis is ``px_per_clock_core``.
+``px_per_clock_core`` x Fmax (NaN for a BRDF point: no core).  Without synthesis the
+throughput axis is ``px_per_clock_core``.
 
 **Configuration files** (``--config FILE``, ``ConfigPoint``): one more configuration each,
 labelled ``fit:<folder>`` or ``config:<stem>``, keyed by its content; a scene it refuses
 (``ValueError``) is reported as refused, not failed.
 
 **Outputs** (``write_outputs``): ``results.csv`` (one row per point), ``results.md`` (per config,
-the mean/worst over the scenes, grouped by sweep, with the Pareto marks and what each knob buys),
+the mean/worst over the scenes, grouped by sweep, with its family, the Pareto marks, each
+front's points with their families and what each knob buys),
 ``pareto_cycles.png``, ``pareto_bits.png``, ``pareto_lut.png`` (when synthesised) and
 ``pareto_throughput.png`` (the thesis's "visually identical" NMSE threshold drawn as a labelled
 line; the front points, the default and the configuration files' points labelled, the labels
 placed so that they do not collide: ``labels.place_labels``).
+
+Size: about 510 lines, two thirds of them this docstring: the study's one description of its
+knobs, figures and outputs, beside ``main``, which checks every argument before any work.
 """
 
 from __future__ import annotations
@@ -120,6 +154,7 @@ from model.study.trade.analysis import (
     aggregate,
     default_position,
     eps_dominates,
+    front_families,
     front_objectives,
     near_front,
     pareto_mask,
@@ -145,10 +180,13 @@ from model.study.trade.outputs import (
     write_outputs,
 )
 from model.study.trade.points import (
+    BRDF_CHOICES,
+    BRDF_KNOBS,
     CACHE_VERSION,
     DEFAULT_POINT,
     DEFAULT_SIZE,
     FILE_KEY,
+    FULL_BRDF_PRODUCT,
     FULL_PRODUCT,
     GRIDS,
     K_SETS,
@@ -160,6 +198,7 @@ from model.study.trade.points import (
     TradePoint,
     a_int_bits_for,
     config_from_dict,
+    family,
     grid_configs,
     grid_points,
     point_scene,
@@ -187,6 +226,8 @@ from model.study.trade.sweep import (
 )
 
 __all__ = [
+    "BRDF_CHOICES",
+    "BRDF_KNOBS",
     "CACHE_VERSION",
     "CONNECT_TIMEOUT",
     "CSV_FIELDS",
@@ -195,6 +236,7 @@ __all__ = [
     "DEFAULT_POINT",
     "DEFAULT_SIZE",
     "FILE_KEY",
+    "FULL_BRDF_PRODUCT",
     "FULL_PRODUCT",
     "GRIDS",
     "HW_FIELDS",
@@ -227,8 +269,10 @@ __all__ = [
     "default_position",
     "eps_dominates",
     "evaluate",
+    "family",
     "format_markdown",
     "frame_clocks",
+    "front_families",
     "front_objectives",
     "grid_configs",
     "grid_points",

@@ -3,16 +3,20 @@
 
 Owns ``aggregate`` (one row per configuration over the scenes, with its Pareto marks),
 ``pareto_mask``, ``eps_dominates`` and ``near_front`` (``NEAR``), ``front_objectives`` and
-``default_position``, ``throughput_axis``.  May import numpy and ``model.study.trade.points``.
+``default_position``, ``throughput_axis``, ``front_families``.  The fronts span every BRDF
+family (the patent's cos^k unit and each BRDF form: ``points.family``), each row naming its
+``family``; a BRDF configuration has no shading-core throughput (NaN), so it is on no
+throughput front.  May import numpy and ``model.study.trade.points``.
 """
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
 
-from model.study.trade.points import KNOBS
+from model.study.trade.points import KNOBS, family
 
 NEAR = 0.05
 """Tolerance of "near the front": see ``eps_dominates``."""
@@ -70,7 +74,9 @@ def aggregate(results: list[dict]) -> list[dict]:
     for rs in groups.values():
         first = rs[0]
         row = {k: first[k] for k in (*KNOBS, "config_key", "label")}
+        row["family"] = family(first)
         tot = {f: sum(r[f] for r in rs) for f in SUM_FIELDS}
+        core = tot["core_clocks"]  # NaN for a BRDF unit: the core takes the patent's only
         row.update(
             scenes=",".join(r["scene"] for r in rs),
             size=first["size"],
@@ -88,7 +94,7 @@ def aggregate(results: list[dict]) -> list[dict]:
             px_per_clock=tot["pixels_shaded"] / max(tot["cycles"], 1),
             px_per_clock_parallel=tot["pixels_shaded"] / max(tot["frame_clocks"], 1),
             core_clocks=tot["core_clocks"] / len(rs),
-            px_per_clock_core=tot["pixels_shaded"] / max(tot["core_clocks"], 1),
+            px_per_clock_core=math.nan if math.isnan(core) else tot["pixels_shaded"] / max(core, 1),
             specular_share=tot["specular_pixels"] / max(tot["pixels_shaded"], 1),
             table_bits=first["table_bits"],
             adders=first["adders"],
@@ -125,6 +131,25 @@ def throughput_axis(rows: list[dict]) -> str:
     core's pixels per clock (``px_per_clock_core``: shaded pixels / core clocks)."""
     has_hw = any(np.isfinite(float(r.get("hw_mpx_per_s", np.nan))) for r in rows)
     return "hw_mpx_per_s" if has_hw else "px_per_clock_core"
+
+
+FRONT_NAMES = {
+    "pareto_cycles": "NMSE vs cycles",
+    "pareto_bits": "NMSE vs table bits",
+    "pareto_lut": "NMSE vs LUTs",
+    "pareto_throughput": "NMSE vs throughput",
+}
+"""The fronts ``aggregate`` marks (row field -> name)."""
+
+
+def front_families(rows: list[dict]) -> dict[str, list[tuple[str, str]]]:
+    """Per front (``FRONT_NAMES``): (label, family) of every configuration on it, from the most
+    accurate (lowest NMSE) on."""
+    out = {}
+    for key, name in FRONT_NAMES.items():
+        on = sorted((r for r in rows if r.get(key)), key=lambda r: r["nmse"])
+        out[name] = [(r["label"], r["family"]) for r in on]
+    return out
 
 
 def default_row(rows: list[dict]) -> int | None:

@@ -6,7 +6,7 @@ sweep's Dask cluster or in this process, under a tqdm bar), ``unit_configs`` (th
 pipeline configuration uses), ``combine`` (one configuration's figures: the sum of its units' own
 LUTs, flip-flops, block RAMs and DSPs, and the slowest unit's Fmax), ``attach`` (those figures on
 every result of the configuration, with the hardware's Mpx/s: the shading core's pixels per clock
-x that Fmax) and the part option
+x that Fmax, NaN for a BRDF configuration, which the core cannot take) and the part option
 (``DEFAULT_PART``, ``PART_CHOICES``, ``check_part``).  May import ``model.hw`` and
 ``model.render``.
 """
@@ -44,12 +44,16 @@ def check_part(part: str | None) -> str | None:
 
 def unit_configs(cfg: pipeline.PipelineConfig) -> list[tuple[str, object]]:
     """(unit, unit configuration) of every unit ``cfg`` uses: the divider and the Gouraud unit
-    always, the specular unit unless ``cfg.uses_specular_unit`` is False."""
+    always, then the BRDF unit (``("brdf_unit", cfg.brdf)``) when the highlight goes through
+    one (``cfg.brdf``: the diffuse term is then Gouraud's, so no specular unit), else the
+    specular unit unless ``cfg.uses_specular_unit`` is False."""
     units: list[tuple[str, object]] = [
         ("divider_shift", cfg.divider),
         ("gouraud_segment", cfg.gouraud),
     ]
-    if cfg.uses_specular_unit:
+    if cfg.brdf is not None:
+        units.append(("brdf_unit", cfg.brdf))
+    elif cfg.uses_specular_unit:
         units.append(("specular_unit", cfg.specular))
     return units
 

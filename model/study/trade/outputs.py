@@ -4,8 +4,14 @@
 Owns ``write_outputs`` (``results.csv``, ``results.md``, ``pareto_cycles.png``,
 ``pareto_bits.png`` and the README's ``trade_pareto.png``), the tables (``CSV_FIELDS``,
 ``table_row``, ``sweep_rows``, ``knob_summary``, ``format_markdown``) and the plots
-(``plot_pareto``, ``plot_figure``, ``place_labels``).  May import numpy, matplotlib,
-``model.study.metrics`` and ``model.study.trade`` ``points`` and ``analysis``.
+(``plot_pareto``, ``plot_figure``, ``place_labels``).  Every table row names its family (the
+patent's cos^k or a BRDF form), results.md lists each front's points with their families
+(``front_lines``) and the plots mark the family (``family_marker``; a BRDF point's label starts
+with its form).  May import numpy, matplotlib, ``model.study.metrics`` and ``model.study.trade``
+``points``, ``analysis`` and ``hardware``.
+
+Size: about 540 lines: the three outputs read the same aggregated rows and share their labels
+(``point_label``, the families' markers), so a change to one is a change to all.
 """
 
 from __future__ import annotations
@@ -22,6 +28,7 @@ from model.study.trade.analysis import (
     aggregate,
     default_position,
     default_row,
+    front_families,
     throughput_axis,
 )
 from model.study.trade.hardware import HW_FIELDS
@@ -31,7 +38,16 @@ from model.study.trade.labels import (
     place_labels,
     polyline_boxes,
 )
-from model.study.trade.points import DEFAULT_POINT, KNOBS, SMALL_SWEEPS, Sweep, row_knobs
+from model.study.trade.points import (
+    BRDF_CHOICES,
+    DEFAULT_POINT,
+    KNOBS,
+    PATENT,
+    SMALL_SWEEPS,
+    Sweep,
+    family,
+    row_knobs,
+)
 
 # ================================================================================ outputs
 CSV_FIELDS = (
@@ -92,18 +108,22 @@ def _pct(x: float) -> str:
 
 
 TABLE_HEAD = (
-    "| config | NMSE (mean) | PSNR dB (min) | max err | epicentre err (n) | unit err (LSB) "
-    "| line drift "
+    "| config | family | NMSE (mean) | PSNR dB (min) | max err | epicentre err (n) "
+    "| unit err (LSB) | line drift "
     "| angle drift | cycles/frame | frame clocks | px/clk | px/clk par. | core clocks "
     "| px/clk core | table bits | adders "
     "| mult (bits) | LUT | FF | BRAM | DSP | Fmax MHz | hw Mpx/s | sw Mpx/s | front |\n"
     "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
-    "---|---|"
+    "---|---|---|"
 )
 
 
 def _int(x: float) -> str:
-    return "-" if not np.isfinite(float(x)) else f"{int(x):,}"
+    return "-" if not np.isfinite(float(x)) else f"{round(float(x)):,}"
+
+
+def _num4(x: float) -> str:
+    return "-" if not np.isfinite(float(x)) else f"{float(x):.4f}"
 
 
 def _hw(r: dict) -> str:
@@ -131,14 +151,18 @@ def table_row(r: dict) -> str:
         else "-"
     )
     name = "**default**" if r["label"] == "default" else r["label"]
+    mults = _int(r["multipliers"])
+    if np.isfinite(float(r["mult_bits"])):
+        mults += f" ({int(r['mult_bits'])})"
     return (
-        f"| {name} | {r['nmse']:.6f} | {r['psnr']:.1f} | {r['max_abs_error']:.0f} | {epi} "
+        f"| {name} | {r['family']} | {r['nmse']:.6f} | {r['psnr']:.1f} "
+        f"| {r['max_abs_error']:.0f} | {epi} "
         f"| {_num(r['unit_error_lsb'])} "
         f"| {r['line_drift_levels']:.3f} | {_num(r['angle_drift_steps'])} "
         f"| {r['cycles']:,.0f} | {r['frame_clocks']:,.0f} "
         f"| {r['px_per_clock']:.3f} | {r['px_per_clock_parallel']:.3f} "
-        f"| {r['core_clocks']:,.0f} | {r['px_per_clock_core']:.4f} | {r['table_bits']:,} "
-        f"| {r['adders']} | {r['multipliers']} ({r['mult_bits']}) | {_hw(r)} "
+        f"| {_int(r['core_clocks'])} | {_num4(r['px_per_clock_core'])} | {r['table_bits']:,} "
+        f"| {_int(r['adders'])} | {mults} | {_hw(r)} "
         f"| {r['sw_pixels_per_second'] / 1e6:.2f} | {marks or '-'} |"
     )
 
@@ -182,6 +206,30 @@ def knob_summary(sweep: Sweep, rows: list[dict]) -> str:
     )
 
 
+def front_lines(rows: list[dict]) -> list[str]:
+    """results.md's "fronts across families": per front, its points from the most accurate on,
+    each with its family, and the run's families with no point on it."""
+    run = [f for f in FAMILIES if any(r["family"] == f for r in rows)]
+    run += sorted({r["family"] for r in rows} - set(run))
+    lines = ["## The fronts across families", ""]
+    lines.append(
+        f"One front per cost over every configuration of the run, whatever its family "
+        f"({', '.join(run)}); from the most accurate point on, each with its family."
+    )
+    lines.append("")
+    for name, members in front_families(rows).items():
+        if not members:
+            continue
+        listed = "; ".join(f"{label} ({fam})" for label, fam in members)
+        absent = [f for f in run if f not in {fam for _, fam in members}]
+        why = ""
+        if name.endswith("throughput") and any(f != FAMILIES[0] for f in absent):
+            why = " (a BRDF unit has no shading core: no throughput)"
+        off = f"; no point of {', '.join(absent)}{why}" if absent else ""
+        lines.append(f"* {name}: {listed}{off}")
+    return [*lines, ""]
+
+
 def format_markdown(
     rows: list[dict], sweeps: Sequence[Sweep] = SMALL_SWEEPS, refused: Sequence[str] = ()
 ) -> str:
@@ -198,9 +246,16 @@ def format_markdown(
             "the units in parallel with ideal buffering (an estimate); core clocks: the shading "
             "core's (core.core_cycles = LATENCY + pixels per frame, which its RTL matches clock "
             "for clock), px/clk core = pixels / core clocks; hw Mpx/s: px/clk core x Fmax (the "
-            "units' Fmax, not the core's own); sw Mpx/s: the software model."
+            "units' Fmax, not the core's own); sw Mpx/s: the software model.  family: the "
+            "highlight's unit, cos^k = the patent's specular unit, else the BRDF family unit of "
+            "that form (`brdf` knob); every front spans every family.  A BRDF unit has no "
+            "shading core yet (rtl/shading_core.v takes the patent's unit only), so its core "
+            "clocks, px/clk core and hw Mpx/s are '-' and it is on no throughput front; its "
+            "epicentre error is the unit's word F against cos^n over n = 2..1000 "
+            "(brdf.fixed_accuracy) and it has no unit error in output LSBs."
         )
         lines.append("")
+        lines += front_lines(rows)
     shown: set[str] = set()
     for sw in sweeps:
         rs = sweep_rows(sw, rows)
@@ -242,10 +297,20 @@ THRESHOLD_LABEL = "visually identical: NMSE ≤ {:g} (thesis)"
 
 def point_label(r: dict) -> str:
     """A row's label on the plots: "default", a named combination, the changed knob of its
-    sweep (``p=4``, ``highlight_levels=16``), else every changed knob, one per line."""
+    sweep (``p=4``, ``highlight_levels=16``), else every changed knob, one per line; a BRDF
+    family point's label starts with its form (``quadratic``, ``quadratic:\nrecip_bits=14``),
+    so the family of every labelled point is on the plot."""
     if r.get("config_name"):
         return r["config_name"]
-    group = DEFAULT_POINT.with_knobs(**row_knobs(r)).group
+    knobs = row_knobs(r)
+    if knobs["brdf"] != PATENT:
+        rest = {k: v for k, v in knobs.items() if k != "brdf"}
+        changed = DEFAULT_POINT.with_knobs(**rest).changed_knobs()
+        text = "\n".join(
+            f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}" for k, v in changed.items()
+        )
+        return f"{knobs['brdf']}:\n{text}" if text else knobs["brdf"]
+    group = DEFAULT_POINT.with_knobs(**knobs).group
     if group in KNOBS:
         v = r[group]
         return f"{group}={v:g}" if isinstance(v, float) else f"{group}={v}"
@@ -299,6 +364,17 @@ X_AXES: dict[str, tuple[str, str, bool]] = {
 """The x axes of ``plot_pareto``: (front field, axis label, log scale)."""
 
 
+FAMILIES: tuple[str, ...] = tuple(family({"brdf": b}) for b in BRDF_CHOICES)
+"""Every family, the patent's cos^k first (``points.family`` of each ``brdf`` value)."""
+FAMILY_MARKERS = ("o", "s", "^", "v", "P", "X", "h")
+
+
+def family_marker(fam: str) -> str:
+    """The plots' marker of a family: a circle for the patent's cos^k, then one per form."""
+    i = FAMILIES.index(fam) if fam in FAMILIES else len(FAMILY_MARKERS) - 1
+    return FAMILY_MARKERS[min(i, len(FAMILY_MARKERS) - 1)]
+
+
 def _group(r: dict) -> str:
     return "fitted" if r.get("config_name") else DEFAULT_POINT.with_knobs(**row_knobs(r)).group
 
@@ -331,11 +407,21 @@ def plot_pareto(
     ys = np.array([r["nmse"] for r in rows], dtype=float)
     front = np.array([bool(r[front_key]) for r in rows], dtype=bool)
     knob = [_group(r) for r in rows]
+    fams = [r.get("family") or family(r) for r in rows]
     kinds = sorted(set(knob) - {"default", "fitted"})
     cmap = plt.get_cmap("tab10")
     for i, kname in enumerate(kinds):
-        sel = np.array([k == kname for k in knob])
-        ax.scatter(xs[sel], ys[sel], s=18, color=cmap(i % 10), label=kname, alpha=0.8)
+        for fam in sorted(set(fams)):
+            sel = np.array([k == kname and f == fam for k, f in zip(knob, fams, strict=True)])
+            if sel.any():
+                ax.scatter(
+                    xs[sel], ys[sel], s=18, color=cmap(i % 10), marker=family_marker(fam),
+                    alpha=0.8,
+                )  # fmt: skip
+        ax.scatter([], [], s=18, color=cmap(i % 10), marker="o", label=kname, alpha=0.8)
+    if len(set(fams)) > 1:  # the families' markers in the legend, grey
+        for fam in sorted(set(fams), key=lambda f: FAMILIES.index(f) if f in FAMILIES else 99):
+            ax.scatter([], [], s=18, color="0.5", marker=family_marker(fam), label=f"family {fam}")
     order = np.argsort(xs[front])
     ax.plot(xs[front][order], ys[front][order], "k--", lw=1, label="Pareto front")
     ax.scatter(xs[front], ys[front], s=60, facecolors="none", edgecolors="k")

@@ -2,8 +2,9 @@
 """Trade points: the knobs, their values, the grids of configurations, the scenes a point names.
 
 Owns ``TradePoint`` (a scene, a size, one value per knob) with its cache ``key``
-(``CACHE_VERSION``), the knobs (``KNOBS``, ``K_SETS``, ``DEFAULT_POINT``, ``row_knobs``), the grids
-(``Sweep``, ``SMALL_SWEEPS``, ``NAMED``, ``FULL_PRODUCT``, ``grid_configs``, ``grid_points``) and
+(``CACHE_VERSION``), the knobs (``KNOBS``, ``K_SETS``, ``BRDF_CHOICES``, ``BRDF_KNOBS``,
+``DEFAULT_POINT``, ``row_knobs``, ``family``), the grids (``Sweep``, ``SMALL_SWEEPS``, ``NAMED``,
+``FULL_PRODUCT``, ``FULL_BRDF_PRODUCT``, ``grid_configs``, ``grid_points``) and
 the scenes a point can name: a built-in scene, or a scene file or mesh file by its key
 (``FILE_KEY``, ``point_scene``).  May import ``model.units`` and ``model.render``.
 """
@@ -21,9 +22,9 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 from model.render import pipeline, scene, scenefile
-from model.units import divider, gouraud, specular
+from model.units import brdf, divider, gouraud, specular
 
-CACHE_VERSION = 6
+CACHE_VERSION = 7
 """Part of every key: bump it when a figure's definition changes, so old cache files are unused."""
 DEFAULT_SIZE = 128
 K_SETS: dict[str, tuple[tuple[int, int, int], ...]] = {
@@ -46,7 +47,28 @@ KNOBS: tuple[str, ...] = (
     "specular_mode",
     "highlight_levels",
     "diffuse_mode",
+    "brdf",
 )
+
+PATENT = "none"
+"""The ``brdf`` knob's default: the highlight through the patent's cos^k specular unit."""
+BRDF_CHOICES: tuple[str, ...] = (PATENT, *brdf.RTL_FORMS)
+"""Legal ``brdf`` values: "none" (the patent's unit) or a BRDF family form with RTL
+(``brdf.unit.RTL_FORMS``, read when this module loads: a form with new RTL is a value at once)."""
+BRDF_KNOBS = ("z_frac_bits", "recip_bits", "p", "specular_mode", "highlight_levels")
+"""The knobs that still reach a point whose highlight goes through a BRDF unit: the angle
+format (``brdf.unit.ANGLE_FIELDS``: of these knobs only ``z_frac_bits``), the divider, the
+Gouraud unit and the highlight's route.  ``rom_addr_bits``, ``rom_data_bits``, ``k_set`` and
+``alpha`` are the patent unit's tables: legal with a BRDF unit but without effect (another key,
+the same figures), so no grid varies them there."""
+
+
+def family(knobs: Mapping[str, object]) -> str:
+    """The BRDF family a point or row belongs to: "cos^k" (the patent's specular unit, ``brdf``
+    "none") or the BRDF unit's form."""
+    form = knobs.get("brdf", PATENT)
+    return "cos^k" if form == PATENT else str(form)
+
 
 FILE_KEY = re.compile(r"(?P<kind>mesh|scene):(?P<name>[^/\\]+)@(?P<sha1>[0-9a-f]{12})")
 """A mesh file's or scene file's key (``scenefile.SceneSource.key``): ``mesh:<file name>@<12 hex>``
@@ -83,6 +105,7 @@ class TradePoint:
     specular_mode: str = "unit"
     highlight_levels: float = 0.5
     diffuse_mode: str = "gouraud"
+    brdf: str = PATENT
 
     def __post_init__(self) -> None:
         if not FILE_KEY.fullmatch(self.scene):
@@ -94,6 +117,7 @@ class TradePoint:
                     "'scene:<file name>@<sha1: 12 hex>'"
                 ) from None
         self._check_k_set()
+        self._check_brdf()
         # Canonical types, so that equal points have equal keys (1 and 1.0, numpy ints).
         for name in ("size", "rom_addr_bits", "rom_data_bits", "z_frac_bits", "recip_bits", "p"):
             object.__setattr__(self, name, int(getattr(self, name)))
@@ -101,6 +125,20 @@ class TradePoint:
 
     def _check_k_set(self) -> None:
         scene.check_choice("k_set", self.k_set, tuple(K_SETS))
+
+    def _check_brdf(self) -> None:
+        """The ``brdf`` knob is a legal value, and the point's routes are ones a BRDF unit takes
+        (it makes the highlight only: ``PipelineConfig._check_brdf``'s rule, named by knob)."""
+        scene.check_choice("brdf", self.brdf, BRDF_CHOICES)
+        if self.brdf != PATENT and (
+            self.specular_mode == "vertex" or self.diffuse_mode != "gouraud"
+        ):
+            raise ValueError(
+                f"brdf = {self.brdf!r} is out of range with specular_mode = "
+                f"{self.specular_mode!r} and diffuse_mode = {self.diffuse_mode!r}: a BRDF unit "
+                "makes the highlight only; legal are brdf = 'none', or specular_mode unit or "
+                "adaptive with diffuse_mode gouraud"
+            )
 
     @property
     def knobs(self) -> dict[str, object]:
@@ -138,6 +176,11 @@ class TradePoint:
         return ", ".join(f"{k}={v}" for k, v in changed.items()) if changed else "default"
 
     @property
+    def family(self) -> str:
+        """ "cos^k" (the patent's unit) or the BRDF unit's form (``family``)."""
+        return family(self.knobs)
+
+    @property
     def group(self) -> str:
         """The sweep the configuration belongs to (its changed knob), for the plots."""
         changed = self.changed_knobs()
@@ -167,7 +210,23 @@ class TradePoint:
             specular_mode=self.specular_mode,
             highlight_levels=self.highlight_levels,
             diffuse_mode=self.diffuse_mode,
+            brdf=self.brdf_config(spec),
         )
+
+    def brdf_config(self, spec: specular.SpecularConfig) -> brdf.FixedConfig | None:
+        """None (``brdf`` "none"), or the form's default unit (``brdf.unit.UNIT_CONFIGS``: the
+        widths whose ROM images are committed) with ``angle`` = the point's specular
+        configuration, so the angle knobs reach it; ``ValueError`` naming the knobs when the
+        form's widths do not fit that angle format (its angle table's address bits are at
+        most ``z_frac_bits``)."""
+        if self.brdf == PATENT:
+            return None
+        try:
+            return dataclasses.replace(brdf.UNIT_CONFIGS[self.brdf], angle=spec)
+        except ValueError as exc:
+            raise ValueError(
+                f"brdf = {self.brdf!r} is out of range with z_frac_bits = {self.z_frac_bits}: {exc}"
+            ) from None
 
 
 @functools.cache
@@ -199,6 +258,10 @@ def config_from_dict(tables: Mapping[str, Mapping[str, object]]) -> pipeline.Pip
     for name, cls in units.items():
         if name in tables:
             kwargs[name] = cls(**{k: _tuples(v) for k, v in tables[name].items()})
+    if "brdf" in tables:  # its angle format is the specular table's (``configfile``)
+        angle = kwargs.get("specular", specular.DEFAULT)
+        fields = {k: _tuples(v) for k, v in tables["brdf"].items()}
+        kwargs["brdf"] = brdf.FixedConfig(**fields, angle=angle)
     return pipeline.PipelineConfig(**kwargs)
 
 
@@ -235,9 +298,13 @@ class ConfigPoint(TradePoint):
             specular_mode=cfg.specular_mode,
             highlight_levels=cfg.highlight_levels,
             diffuse_mode=cfg.diffuse_mode,
+            brdf=PATENT if cfg.brdf is None else cfg.brdf.form,
             config_label=label,
             config_json=json.dumps(configfile.config_dict(cfg), sort_keys=True),
         )
+
+    def _check_brdf(self) -> None:
+        pass  # the file's configuration was checked when it was read (any form it names)
 
     def _check_k_set(self) -> None:
         if self.k_set != "custom":
@@ -305,6 +372,7 @@ SMALL_SWEEPS: tuple[Sweep, ...] = (
         title="adaptive highlight threshold (levels)",
     ),
     Sweep("diffuse_mode", ("gouraud", "unit", "adaptive"), title="diffuse path"),
+    Sweep("brdf", BRDF_CHOICES, title="BRDF family (the highlight's unit)"),
 )
 """One knob at a time around the default (each knob's effect isolated); the named alternatives
 (the prototype's cos^2, a single cos^16, {1, 2, 16}, inflection, Gouraud only, adaptive, the
@@ -332,6 +400,13 @@ FULL_PRODUCT: dict[str, tuple] = {
     "recip_bits": (14, 20),
 }
 """The full grid adds this cross product (432 configurations: interactions of the knobs)."""
+FULL_BRDF_PRODUCT: dict[str, tuple] = {
+    "brdf": brdf.RTL_FORMS,
+    "z_frac_bits": (18, 22, 26),
+    "recip_bits": (14, 20),
+}
+"""And this one: each BRDF form with the knobs of the product that reach it (``BRDF_KNOBS``;
+6 configurations per form)."""
 
 GRIDS = ("small", "full")
 
@@ -341,11 +416,11 @@ def grid_configs(grid: str = "small") -> list[dict[str, object]]:
     scene.check_choice("grid", grid, GRIDS)
     configs = [{}] + [c for s in SMALL_SWEEPS for c in s.configs()] + list(NAMED.values())
     if grid == "full":
-        names = list(FULL_PRODUCT)
-        configs += [
-            dict(zip(names, vals, strict=True))
-            for vals in itertools.product(*FULL_PRODUCT.values())
-        ]
+        for product in (FULL_PRODUCT, FULL_BRDF_PRODUCT):
+            names = list(product)
+            configs += [
+                dict(zip(names, vals, strict=True)) for vals in itertools.product(*product.values())
+            ]
     seen: set[str] = set()
     unique = []
     for c in configs:

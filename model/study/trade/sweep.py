@@ -6,6 +6,11 @@ cache (``cache_path``, ``RESULT_RANGES``, ``check_result``, ``read_cached``, ``l
 ``store``) and the engine (``run_sweep``, ``SweepOutcome``, ``make_client``, ``connect``,
 ``check_workers``, ``sweep_lock``).  May import ``model.units``, ``model.render`` (``core``: the
 shading core's clocks), ``model.study`` ``metrics`` and ``report``, ``model.study.trade.points``.
+A point whose highlight goes through a BRDF unit gets that unit's figures
+(``accuracy_figures``, ``hardware``, ``BRDF_ADDERS``) and no shading-core clocks.
+
+Size: about 560 lines: a result's figures (``evaluate``), their legal ranges (``RESULT_RANGES``,
+which the cache checks) and the engine that stores them are kept in step in one file.
 """
 
 from __future__ import annotations
@@ -28,7 +33,7 @@ from model.render import core, pipeline, raster, reference, shade
 from model.render.scenefile import SceneSource
 from model.study import metrics, report
 from model.study.trade.points import CACHE_VERSION, TradePoint, point_scene
-from model.units import gouraud, specular
+from model.units import brdf, gouraud, specular
 
 CHANNELS = 3
 """Colour channels: one divider and one Gouraud unit each in the parallel picture."""
@@ -65,6 +70,24 @@ def epicentre_error(cfg: specular.SpecularConfig) -> tuple[float, int, float, fl
     )
 
 
+@functools.lru_cache(maxsize=16)
+def brdf_epicentre_error(cfg: brdf.FixedConfig) -> tuple[float, int]:
+    """(worst relative error of the BRDF unit's output word F against cos^n over n = 2..1000,
+    at n): ``brdf.fixed_accuracy``'s ``rel_cos`` (exhaustive over every angle register value
+    of the epicentre where cos^n >= 1/255, as ``epicentre_error``'s; n = 1 left out for the same
+    reason), once per configuration: the figure ``epicentre_error`` gives the patent's unit."""
+    return brdf.fixed_accuracy(cfg).worst("rel_cos", 2)[:2]
+
+
+BRDF_ADDERS: dict[str, int] = {"cosine_quadratic": 3, "quadratic": 3}
+"""The datapath adders of each BRDF form's unit, counted in its RTL as ``hardware`` counts the
+patent's (rtl/brdf_unit.v and rtl/brdf_<form>.v): the angle accumulator, and the
+cosine-quadratic's 1 - m and 7n = 8n - n (once per line), the quadratic's 1 - w and 1 - m;
+rounding increments, |zeta|'s negation, n - 1, clips and saturations and the partial-product
+sums inside the split multipliers (rtl/brdf_mul.v) are not counted.  A form not here (its RTL
+not yet counted) has NaN adders."""
+
+
 def frame_clocks(counters: dict) -> int:
     """A frame's clocks with the units in parallel, ideal buffering (module ``trade`` docstring):
     one divider and one Gouraud unit per colour channel, one specular unit taking the highlight
@@ -98,14 +121,65 @@ def angle_drift(cfg: pipeline.PipelineConfig) -> float:
     return 2.0**s.len_width * 2.0 ** -(s.z_frac_bits + 1) * a_max * 2.0**s.rom_addr_bits
 
 
-def hardware(cfg: pipeline.PipelineConfig) -> dict[str, int]:
-    """Adders, multipliers and multiplier partial-product bits (counting rule: module doc)."""
+def brdf_angle_drift(cfg: brdf.FixedConfig) -> float:
+    """``angle_drift`` for a BRDF unit: the same accumulated error in angle-table address steps
+    (the table is addressed by |zeta| itself: a = 1, ``cos_addr_bits`` address bits)."""
+    a = cfg.angle
+    return 2.0**a.len_width * 2.0 ** -(a.z_frac_bits + 1) * 2.0**cfg.cos_addr_bits
+
+
+def hardware(cfg: pipeline.PipelineConfig) -> dict[str, float]:
+    """Adders, multipliers and multiplier partial-product bits (counting rule: module doc); with
+    a BRDF unit its own (``BRDF_ADDERS``, ``brdf.multipliers``: the form's two and C x F), NaN
+    where its RTL is not counted."""
+    div_gou = CHANNELS * (1 + gouraud.adder_counts(cfg.gouraud.p)["total"])
+    if cfg.brdf is not None:
+        try:
+            mults = brdf.multipliers(cfg.brdf)
+        except KeyError:  # a form whose data sheet does not count its multipliers yet
+            return {"adders": math.nan, "multipliers": math.nan, "mult_bits": math.nan}
+        adders = BRDF_ADDERS.get(cfg.brdf.form)
+        return {
+            "adders": math.nan if adders is None else div_gou + adders,
+            "multipliers": len(mults),
+            "mult_bits": sum(a * b for _, a, b in mults),
+        }
     has_spec = cfg.uses_specular_unit
     s = cfg.specular
     return {
-        "adders": CHANNELS * (1 + gouraud.adder_counts(cfg.gouraud.p)["total"]) + int(has_spec),
+        "adders": div_gou + int(has_spec),
         "multipliers": 2 * int(has_spec),
         "mult_bits": (s.mag_width * s.a_width + s.c_width * s.rom_data_bits) * int(has_spec),
+    }
+
+
+def accuracy_figures(cfg: pipeline.PipelineConfig) -> dict[str, float]:
+    """The configuration's exhaustive unit figures (module ``trade`` docstring): the patent
+    unit's (``epicentre_error``, ``angle_drift``), a BRDF unit's (``brdf_epicentre_error``,
+    ``brdf_angle_drift``; no LSB figures: ``brdf.fixed_accuracy`` measures the word F before
+    x C), or NaN (no unit, or one that keeps only some n)."""
+    nan = {"epicentre_rel_error": math.nan, "epicentre_worst_n": 0}
+    nan |= {"epicentre_out_lsb": math.nan, "unit_error_lsb": math.nan}
+    if cfg.brdf is not None:
+        epi, epi_n = brdf_epicentre_error(cfg.brdf)
+        return {
+            **nan,
+            "epicentre_rel_error": epi,
+            "epicentre_worst_n": epi_n,
+            "angle_drift_steps": brdf_angle_drift(cfg.brdf),
+        }
+    s = cfg.specular
+    drift = {"angle_drift_steps": angle_drift(cfg) if cfg.uses_specular_unit else math.nan}
+    if not cfg.uses_specular_unit or (s.n_first, s.n_last) != (1, specular.N_MAX):
+        # No unit, or one that keeps only some n (a fitted one): no figure over n = 1..1000.
+        return {**nan, **drift}
+    epi, epi_n, epi_lsb, unit_lsb = epicentre_error(s)
+    return {
+        "epicentre_rel_error": epi,
+        "epicentre_worst_n": epi_n,
+        "epicentre_out_lsb": epi_lsb,
+        "unit_error_lsb": unit_lsb,
+        **drift,
     }
 
 
@@ -137,13 +211,9 @@ def evaluate(
         int(k.get("diffuse_cycles", 0)),
     )
     cycles = div_c + gou_c + spec_c + diff_c
-    clocks, on_core = frame_clocks(k), core_clocks(pixels)
-    s = cfg.specular
-    if not cfg.uses_specular_unit or (s.n_first, s.n_last) != (1, specular.N_MAX):
-        # No unit, or one that keeps only some n (a fitted one): no figure over n = 1..1000.
-        epi, epi_n, epi_lsb, unit_lsb = math.nan, 0, math.nan, math.nan
-    else:
-        epi, epi_n, epi_lsb, unit_lsb = epicentre_error(cfg.specular)
+    clocks = frame_clocks(k)
+    # The shading core takes the patent's unit only: a BRDF point has no core to count.
+    on_core = core_clocks(pixels) if cfg.brdf is None else math.nan
     return {
         **dataclasses.asdict(point),
         "key": point.key,
@@ -154,12 +224,8 @@ def evaluate(
         "max_abs_error": cmp.max_abs_error,
         "share_off_by_more_than_1": cmp.share_off_by_more_than_1,
         "highlight_max_abs_error": cmp.highlight_max_abs_error,
-        "epicentre_rel_error": epi,
-        "epicentre_worst_n": epi_n,
-        "epicentre_out_lsb": epi_lsb,
-        "unit_error_lsb": unit_lsb,
+        **accuracy_figures(cfg),
         "line_drift_levels": line_drift(cfg),
-        "angle_drift_steps": angle_drift(cfg) if cfg.uses_specular_unit else math.nan,
         "pixels_shaded": pixels,
         "divider_cycles": div_c,
         "gouraud_cycles": gou_c,
@@ -172,7 +238,7 @@ def evaluate(
         "px_per_clock": pixels / max(cycles, 1),
         "px_per_clock_parallel": pixels / max(clocks, 1),
         "core_clocks": on_core,
-        "px_per_clock_core": pixels / max(on_core, 1),
+        "px_per_clock_core": math.nan if cfg.brdf is not None else pixels / max(on_core, 1),
         "table_bits": report.table_bits("trade", cfg),
         **hardware(cfg),
         "shade_seconds": best,
@@ -186,6 +252,7 @@ def cache_path(cache_dir: Path, point: TradePoint) -> Path:
 
 
 _COUNT = ("int", 0, math.inf, False)
+_COUNT_NAN = ("int", 0, math.inf, True)
 _SIZE = ("float", 0.0, math.inf, False)
 RESULT_RANGES: dict[str, tuple[str, float, float, bool]] = {
     "nmse": _SIZE,
@@ -203,13 +270,15 @@ RESULT_RANGES: dict[str, tuple[str, float, float, bool]] = {
         ("pixels_shaded", "divider_cycles", "gouraud_cycles", "specular_cycles"), _COUNT
     ),
     **dict.fromkeys(("specular_pixels", "cycles", "frame_clocks", "table_bits"), _COUNT),
-    **dict.fromkeys(("diffuse_cycles", "diffuse_pixels", "core_clocks"), _COUNT),
-    **dict.fromkeys(("adders", "multipliers", "mult_bits"), _COUNT),
+    **dict.fromkeys(("diffuse_cycles", "diffuse_pixels"), _COUNT),
+    **dict.fromkeys(("core_clocks", "adders", "multipliers", "mult_bits"), _COUNT_NAN),
     **dict.fromkeys(("px_per_clock", "px_per_clock_parallel", "shade_seconds"), _SIZE),
-    **dict.fromkeys(("px_per_clock_core", "sw_pixels_per_second"), _SIZE),
+    "px_per_clock_core": ("float", 0.0, math.inf, True),
+    "sw_pixels_per_second": _SIZE,
 }
 """Every figure of a result (``evaluate``): kind, legal range, NaN allowed (no specular unit, no
-highlight pixel).  A cached result is used only when every one is present and legal, so an entry
+highlight pixel; a BRDF unit: no shading core, no LSB figures, a form whose arithmetic is not
+counted).  A cached result is used only when every one is present and legal, so an entry
 written before a figure was added (``core_clocks``, ``px_per_clock_core``) is named and evaluated
 again, never mixed with the new ones."""
 
@@ -238,10 +307,10 @@ def check_result(point: TradePoint, result) -> str | None:
             legal += " (inf: equal images)"
         if nan_ok:
             legal += " or NaN"
+        if nan_ok and isinstance(x, float) and math.isnan(x):
+            continue
         if isinstance(x, bool) or not isinstance(x, number):
             return f"{name} = {x!r} is not legal: legal is {legal}"
-        if math.isnan(x) and nan_ok:
-            continue
         if math.isnan(x) or not lo <= x <= hi or (math.isinf(x) and name != "psnr"):
             return f"{name} = {x!r} is out of range: legal is {legal}"
     return None
