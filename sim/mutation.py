@@ -272,7 +272,12 @@ def prepare(design: Design, out: Path = OUT) -> Netlist:
     width = len(mutations).bit_length()
     script = ["read_rtlil design.il"]
     script += [m.ctrl_command(width) for m in mutations]
-    script += [f"rename {top} {top}_mutants", "write_verilog -noattr mutants_netlist.v"]
+    # splitnets: one wire per bit.  A mutation of one bit of a vector reassigns that bit from
+    # a multiplexer fed by the vector's other bits, which Verilator, ordering whole vectors,
+    # takes for a combinational loop and settles by iterating every cycle; split, each bit is
+    # scheduled once (the core's bench runs about 1.5 times as fast).
+    script += ["opt_clean", "splitnets", f"rename {top} {top}_mutants",
+               "write_verilog -noattr mutants_netlist.v"]  # fmt: skip
     run_yosys("\n".join(script) + "\n", src, "mutate")
     netlist = (src / "mutants_netlist.v").read_text()
     text = "`timescale 1ns / 1ps\n" + wrapper(
@@ -459,6 +464,25 @@ def load_report(path: Path) -> DesignReport:
     return DesignReport(**{**d, **outcomes})
 
 
+def report_from_record(rec: dict, name: str, commands: list[str]) -> DesignReport:
+    """A design's report as the record (docs/mutants.json) holds it, for a checkout without the
+    run's result.json: every mutant's outcome (``commands``: the list, line i = mutant i), the
+    digests and the seconds."""
+    d = rec["designs"][name]
+    outcomes = {int(i): Outcome(int(i), commands[int(i) - 1], check)
+                for i, check in d["killed_by"].items()}  # fmt: skip
+    for o in (*d["equivalent"], *d["survivors"]):
+        outcomes[o["id"]] = Outcome(**o)
+    ordered = tuple(outcomes[i] for i in sorted(outcomes))
+    sec = d["seconds"]
+    return DesignReport(
+        name, rec["seed"], d["mutants"], dict(d["killed"]),
+        tuple(o for o in ordered if o.equivalent), tuple(o for o in ordered if o.survivor),
+        ordered, d["inputs_digest"], d["list_digest"], sec["list"], sec["build"], sec["runs"],
+        sec["proofs"], d["proved"],
+    )  # fmt: skip
+
+
 def merge(full: DesignReport, part: DesignReport) -> DesignReport:
     """``full`` (a run of a design's whole list) with the outcomes of ``part`` (a later run of
     some of its mutants, e.g. the survivors given to a new proof) in place of its own for
@@ -484,6 +508,22 @@ def merge(full: DesignReport, part: DesignReport) -> DesignReport:
         full.run_s + part.run_s,
         full.equiv_s + part.equiv_s,
         full.proved and part.proved,
+    )
+
+
+def _last_result(result: Path, record_path: Path | None, name: str) -> DesignReport:
+    """The design's last result.json, or (a fresh checkout) its outcomes in the record
+    ``--record`` names, which ``--merge`` then rewrites."""
+    if result.exists():
+        return load_report(result)
+    if record_path is None or not record_path.exists():
+        raise SystemExit(
+            f"{result} does not exist: run the design's whole list first, or give --record "
+            "with the record to merge into (docs/mutants.json)"
+        )
+    commands = prepare(DESIGNS[name], result.parent.parent).mutations
+    return report_from_record(
+        json.loads(record_path.read_text()), name, [m.command for m in commands]
     )
 
 
@@ -532,7 +572,9 @@ def main(argv: list[str] | None = None) -> int:
             reports.append(load_report(result))
             continue
         ids = sample(LIST_SIZE, args.sample) if args.sample else args.ids
-        last = load_report(result) if args.merge or args.survivors else None
+        last = None
+        if args.merge or args.survivors:
+            last = _last_result(result, args.record, name)
         if args.survivors:
             ids = [o.id for o in last.survivors]
         if args.reset_proof_only:
@@ -549,10 +591,16 @@ def main(argv: list[str] | None = None) -> int:
         print(details(reports[-1:]), end="", flush=True)
     print(table(record(reports)), end="")
     print(f"mutation testing: {time.monotonic() - t0:.1f} s")
+    rec = record(reports)
     if args.record:
-        args.record.write_text(json.dumps(record(reports), indent=2) + "\n")
+        # the designs not run keep what the record says of them
+        if args.record.exists():
+            kept = json.loads(args.record.read_text())["designs"]
+            designs = {**kept, **rec["designs"]}
+            rec["designs"] = {n: designs[n] for n in DESIGNS if n in designs}
+        args.record.write_text(json.dumps(rec, indent=2) + "\n")
     if args.docs:
-        write_docs(record(reports), args.docs)
+        write_docs(rec, args.docs)
     return 1 if any(r.survivors for r in reports) else 0
 
 

@@ -7,15 +7,18 @@ mutant first reaches it, afresh: the generators and the model may change."""
 
 from __future__ import annotations
 
+import functools
+import math
 import random
 import re
 import subprocess
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from model.render import core
 from model.render.pipeline import METHODS
+from model.units.specular import SpecularConfig
 from sim import core_run, soak_file, soak_predict, soak_stimulus, units, vector_run, vector_sets
 from sim.protocol import UnitSpec
 
@@ -124,6 +127,11 @@ def unit_checks(vector_set: str, folder: Path) -> list[Check]:
         _inputs_check(cfg, DIRECTED, directed_inputs, folder),
         _inputs_check(cfg, OPERAND_BITS, operand_bit_inputs, folder),
         *(_soak_check(cfg, name, seed, cycles, folder) for name, seed, cycles in LONG_SOAKS),
+        *(
+            [_inputs_check(cfg, HIGHLIGHT, highlight_inputs, folder)]
+            if isinstance(cfg, SpecularConfig)
+            else []
+        ),
     ]
 
 
@@ -186,6 +194,57 @@ def directed_inputs(cfg: units.UnitConfig) -> list[dict[str, int]]:
             rows += [row(idle, 0)] * wait.get(spec.toplevel, length + 24)
             if index % 2 == 0:  # a reset after every other job, its flags still up
                 rows.append(row({"rst_n": 0, "start": 0}, 0))
+    return rows
+
+
+HIGHLIGHT = (
+    "highlight lines: every pixel inside the highlight of its n, C in its top quarter, "
+    "each line sweeping a few ROM-12 addresses"
+)
+HIGHLIGHT_JOBS = 1500
+
+
+def highlight_inputs(cfg: units.UnitConfig) -> list[dict[str, int]]:
+    """Reset, then ``HIGHLIGHT_JOBS`` lines of the specular unit that stay where cos^n is
+    above 1/256 (n random in 1..1000, z0 within that angle, dz so small that the line stays
+    there), C in the top quarter of its range: every pixel reads a non-zero ROM-12 word and a
+    change of one address or one word is likely to change a result.  A random soak's lines
+    leave the highlight within a few pixels, so it meets a rounding boundary of the angle
+    rarely; these meet one every few hundred pixels.  Each job is written, started and waited
+    for."""
+    spec = units.spec(cfg)
+    ops = spec.operands
+    ranges = {p.name: soak_stimulus.port_range(p) for p in ops}
+    rng = random.Random(DIRECTED_SEED + 2)
+    zf = cfg.z_frac_bits
+    idle = {"rst_n": 1, "start": 0}
+    rows: list[dict[str, int]] = []
+    held = {p.name: 0 for p in ops}
+
+    def row(base: dict[str, int], we: int) -> dict[str, int]:
+        out = dict(base)
+        for p in ops:
+            out[f"{p.name}_we"] = we
+            out[f"{p.name}_in"] = held[p.name]
+        return out
+
+    rows += [row({"rst_n": 0, "start": 0}, 0)] * 3
+    c_lo, c_hi = ranges["c"]
+    len_hi = ranges["len"][1]
+    for _ in range(HIGHLIGHT_JOBS):
+        n = rng.randint(1, 1000)
+        # the angle where cos^n falls to 1/256, in the angle register's LSBs (units of pi/2)
+        edge = int(math.acos(2.0 ** (-8.0 / n)) / (math.pi / 2) * (1 << zf))
+        length = rng.randint(1, len_hi)
+        z0 = rng.randint(-edge, edge)
+        step = max(1, (edge - abs(z0)) // length)
+        held.update(
+            c=rng.randint(c_hi - (c_hi - c_lo) // 4, c_hi), n=n, len=length, z0=z0,
+            dz=rng.randint(-step, step),
+        )  # fmt: skip
+        rows.append(row(idle, 1))
+        rows.append(row({"rst_n": 1, "start": 1}, 0))
+        rows += [row(idle, 0)] * (length + 24)
     return rows
 
 
@@ -273,24 +332,79 @@ def core_checks(folder: Path) -> list[Check]:
             rng = np.random.default_rng(span_seed)
             lengths = rng.integers(1, longest + 1, count)
             lengths[::every] = CORE_CONFIG.gouraud.len_max
-            words = core_run.random_spans(fmt, lengths, span_seed)
-            pix = core.PixelFormat(fmt.x_width, fmt.y_width)
-            digits, pdigits = -(-fmt.width // 4), -(-pix.width // 4)
-            rand_spans.parent.mkdir(parents=True, exist_ok=True)
-            rand_spans.write_text("".join(f"{w:0{digits}x}\n" for w in words))
-            beats = core.core_pixels(words, fmt)
-            rand_pixels.write_text(
-                "".join(
-                    f"{core.pixel_word(p, pix):0{pdigits}x} {p['last']:x} {p['n_err']:x}\n"
-                    for p in beats
-                )
-            )
+            _write_span_files(core_run.random_spans(fmt, lengths, span_seed), rand_spans,
+                              rand_pixels)  # fmt: skip
 
         checks.append(
             Check(name, None, 0, rand_spans, rand_pixels, count, 0, idle, stall, seed,
                   writer=write)
         )  # fmt: skip
+    d_spans = folder / "checks" / "spans_directed.hex"
+    d_pixels = folder / "checks" / "pixels_directed.hex"
+    n_directed = len(directed_spans())
+    checks.append(
+        Check(CORE_DIRECTED, None, 0, d_spans, d_pixels, n_directed, 0, 10, 10, 9,
+              writer=lambda: _write_span_files(list(directed_spans()), d_spans, d_pixels))
+    )  # fmt: skip
     return checks
+
+
+def _write_span_files(words: Sequence[int], spans: Path, pixels: Path) -> None:
+    """The span beats ``words`` and the model's pixel beats, as the core's bench reads them."""
+    fmt = core.SpanFormat(CORE_CONFIG)
+    pix = core.PixelFormat(fmt.x_width, fmt.y_width)
+    digits, pdigits = -(-fmt.width // 4), -(-pix.width // 4)
+    spans.parent.mkdir(parents=True, exist_ok=True)
+    spans.write_text("".join(f"{w:0{digits}x}\n" for w in words))
+    pixels.write_text(
+        "".join(
+            f"{core.pixel_word(p, pix):0{pdigits}x} {p['last']:x} {p['n_err']:x}\n"
+            for p in core.core_pixels(words, fmt)
+        )
+    )
+
+
+CORE_DIRECTED = (
+    "directed spans: each field at 0, 1, the powers of two and their neighbours, its ends, "
+    "the others random, two spans a value"
+)
+
+
+@functools.cache
+def directed_spans(seed: int = DIRECTED_SEED + 3) -> tuple[int, ...]:
+    """The core's directed run, as ``directed_inputs`` is a unit's: for each field of the span
+    beat (``corners`` of its range: z0 = -2.0, exactly -pi, is one), two spans of 1 to 40
+    pixels with the field at that value and every other field random (n from 1 to 1000; the
+    term the angle feeds switched on)."""
+    import numpy as np
+
+    fmt = core.SpanFormat(CORE_CONFIG)
+    g, s = CORE_CONFIG.gouraud, CORE_CONFIG.specular
+    z = (s.z_format.lo, s.z_format.hi, s.z_width)
+    c = (0, (1 << s.c_width) - 1, s.c_width)
+    i = (0, (1 << g.i_width) - 1, g.i_width)
+    fields = {"z0": z, "dz": z, "diff_z0": z, "diff_dz": z, "c": c,
+              "n": (0, (1 << core.N_WIDTH) - 1, core.N_WIDTH),
+              "l": (0, g.len_max - 1, (g.len_max - 1).bit_length())}  # fmt: skip
+    for ch in range(core.CHANNELS):
+        fields.update({f"diff_c{ch}": c, f"i_start{ch}": i, f"i_end{ch}": i})
+    rng = np.random.default_rng(seed)
+    words = []
+    for name, (lo, hi, width) in fields.items():
+        for value in corners(lo, hi, width):
+            for _ in range(2):
+                lengths = [int(rng.integers(1, 41))]
+                row = core.unpack(fmt.layout(), core_run.random_spans(fmt, lengths, int(
+                    rng.integers(1 << 31)))[0])  # fmt: skip
+                row["n"] = int(rng.integers(1, 1001))
+                row[name] = value
+                if name in ("z0", "dz"):
+                    row["spec"] = 1
+                if name in ("diff_z0", "diff_dz"):
+                    row["diff"] = 1
+                row["x"] = min(row["x"], (1 << fmt.x_width) - row["l"] - 1)
+                words.append(core.pack(fmt.layout(), row))
+    return tuple(words)
 
 
 def passes(bench: Bench, check: Check, mutant: int, work: Path) -> bool:
@@ -305,7 +419,7 @@ def passes(bench: Bench, check: Check, mutant: int, work: Path) -> bool:
         f"+SPAN_FILE={check.spans}", f"+EXPECT_FILE={check.expect}", f"+OUT_FILE={out_file}",
         f"+SPANS={check.n_spans}", f"+PIXELS={n_pixels}", f"+IDLE_PCT={check.idle_pct}",
         f"+STALL_PCT={check.stall_pct}", f"+SEED={check.seed}",
-        f"+MAX_CYCLES={40 * n_pixels + 10000}", f"+MUTANT={mutant}",
+        f"+MAX_CYCLES={40 * n_pixels + 10000}", f"+MUTANT={mutant}", "+STOP_ON_ERROR=1",
     ]  # fmt: skip
     try:
         ran = subprocess.run([*bench.command, *args], capture_output=True, text=True,

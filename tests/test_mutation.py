@@ -153,3 +153,49 @@ def test_operand_bit_jobs_show_every_bit_of_the_divider_s_operands() -> None:
             (1 << widths[name]) - (1 << b),
         )
         assert expect(job).results != expect(other).results
+
+
+def test_the_record_round_trips_through_a_report() -> None:
+    """``report_from_record`` (what ``--merge --record`` merges into on a fresh clone) gives
+    back every outcome, count and digest of the record: written again, the same record."""
+    rec = _record()
+    for name, entry in rec["designs"].items():
+        commands = [f"mutant {i}" for i in range(1, entry["mutants"] + 1)]
+        again = mutation.record([mutation.report_from_record(rec, name, commands)])
+        assert again["designs"][name] == entry, name
+
+
+def test_highlight_lines_stay_in_the_highlight() -> None:
+    """The specular unit's last check: the lines' pixels inside the highlight of their n, each
+    line written with its operands and started.  A pixel shows as lit (non-zero: C x the
+    ROM-12 word, C in the top quarter of its range); where cos^n is near 1/256 the product
+    may round to 0, so not every one is: 97 % of the first 200 lines' 193 317 pixels are."""
+    from model.units.specular import datapath
+    from model.units.specular.config import DEFAULT
+
+    rows = mutation_checks.highlight_inputs(DEFAULT)
+    jobs = [r for r in rows if r["n_we"]]
+    assert len(jobs) == mutation_checks.HIGHLIGHT_JOBS
+    assert sum(r["start"] for r in rows) == len(jobs)
+    lit = total = 0
+    for r in jobs[:200]:
+        line = datapath.shade_line(r["c_in"], r["dz_in"], r["z0_in"], r["n_in"], r["len_in"])
+        lit += int((line > 0).sum())
+        total += line.size
+    assert lit >= 0.97 * total, f"{total - lit} of {total} pixels outside the highlight"
+
+
+def test_directed_spans_take_every_field_to_its_corners() -> None:
+    """The core's last check: for each field, spans with it at each corner value of its range
+    (``corners``), the term the angle feeds switched on; every span inside the frame."""
+    from model.render import core
+
+    fmt = core.SpanFormat(mutation_checks.CORE_CONFIG)
+    rows = [core.unpack(fmt.layout(), w) for w in mutation_checks.directed_spans()]
+    s = mutation_checks.CORE_CONFIG.specular
+    for name in ("z0", "dz", "diff_z0", "diff_dz"):
+        seen = {r[name] for r in rows}
+        assert set(mutation_checks.corners(s.z_format.lo, s.z_format.hi, s.z_width)) <= seen
+    # the diffuse accumulator at exactly -2.0 (-pi), the corner random fractions never meet
+    assert any(r["diff_z0"] == -(2 << s.z_frac_bits) and r["diff"] for r in rows)
+    assert all(r["x"] + r["l"] + 1 <= 1 << fmt.x_width for r in rows)

@@ -7,8 +7,10 @@
 // first span beat taken to the last pixel beat.  Python compares the beats with the model
 // (model.render.core.core_pixels); with +EXPECT_FILE (the model's beats, the same format) the
 // bench compares them itself and exits non-zero on any mismatch (the FuseSoC sim target and the
-// committed set sim/vectors/core_default/, no Python).  Plain Verilog-2005, for Icarus and
-// for Verilator's --binary mode.
+// committed set sim/vectors/core_default/, no Python); +STOP_ON_ERROR=1 ends the run at the
+// first error or mismatch (make mutants: a mutant is killed by its first wrong beat, the rest
+// of the run would only count more).  Plain Verilog-2005, for Icarus and for Verilator's
+// --binary mode.
 
 `resetall
 `timescale 1ns / 1ps
@@ -117,6 +119,7 @@ integer idle_pct;
 integer stall_pct;
 integer seed;
 integer max_cycles;
+integer stop_on_error;
 integer fd;
 integer sent;
 integer received;
@@ -166,6 +169,7 @@ initial begin
     if (!$value$plusargs("STALL_PCT=%d", stall_pct)) stall_pct = 0;
     if (!$value$plusargs("SEED=%d", seed)) seed = 1;
     if (!$value$plusargs("MAX_CYCLES=%d", max_cycles)) max_cycles = 100000000;
+    if (!$value$plusargs("STOP_ON_ERROR=%d", stop_on_error)) stop_on_error = 0;
     if (n_spans < 1 || n_spans > MAX_SPANS) begin
         $display("tb_shading_core: +SPANS=%0d is out of range: legal is 1..%0d", n_spans,
                  MAX_SPANS);
@@ -253,7 +257,8 @@ always @(posedge clk) begin
         end
         lfsr = next_lfsr(lfsr);
         m_tready <= (pct(lfsr) >= stall_pct);
-        if (received == n_pixels || cycle >= max_cycles) begin
+        if (received == n_pixels || cycle >= max_cycles
+            || (stop_on_error != 0 && errors + mismatches != 0)) begin
             $fclose(fd);
             $display("DONE spans=%0d pixels=%0d first_in=%0d last_out=%0d cycles=%0d stalls=%0d errors=%0d",
                      sent, received, first_in, last_out, last_out - first_in + 1, stalls,
