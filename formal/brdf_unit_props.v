@@ -13,7 +13,8 @@
  *   f_job_len, f_job_nerr   the running line's l and n error (the values held *before* the
  *                       start cycle's writes);
  *   f_left              busy cycles still to come: FILL + l at an accepted start, FILL = 12
- *                       (cosine-quadratic) or 13 (quadratic) (model.units.brdf.cycles);
+ *                       (cosine-quadratic), 13 (quadratic) or 20 (cubic)
+ *                       (model.units.brdf.cycles);
  *   f_valid, f_nerr_out the expected valid (offsets FILL..FILL+l after the start edge) and
  *                       n_err.
  * The job's script removes both tables (their read data free in every cycle) and Yosys removes
@@ -66,11 +67,15 @@ module brdf_unit_formal #(
     input wire                              start
 );
 
-// model.units.brdf.fill_latency: 7 front stages + the form's 5 (cosine-quadratic) or 6
+// model.units.brdf.fill_latency: 7 front stages + the form's 5 (cosine-quadratic), 6
+// (quadratic) or 13 (cubic)
 localparam [8*16-1:0] FORM_QUADRATIC = "quadratic";
+localparam [8*16-1:0] FORM_CUBIC = "cubic";
 localparam FILL_COSINE_QUADRATIC = 12;
 localparam FILL_QUADRATIC = 13;
-localparam FILL = (FORM == FORM_QUADRATIC) ? FILL_QUADRATIC : FILL_COSINE_QUADRATIC;
+localparam FILL_CUBIC = 20;
+localparam FILL = (FORM == FORM_QUADRATIC) ? FILL_QUADRATIC
+                : (FORM == FORM_CUBIC) ? FILL_CUBIC : FILL_COSINE_QUADRATIC;
 localparam LAST_STAGE = FILL - 1;
 localparam L_WIDTH = LEN_WIDTH + 2;  // f_left: up to FILL + 2^LEN_WIDTH - 1 (LEN_WIDTH >= 3)
 

@@ -1,22 +1,27 @@
 // SPDX-License-Identifier: Apache-2.0
 /*
- * A pipelined unsigned multiplier for the BRDF unit's wide products: p = a * b, exact, two
- * clock edges after a and b.  Stage 1: the four partial products of the operands' halves
+ * A pipelined multiplier for the BRDF unit's wide products: p = a * b, exact, two clock edges
+ * after a and b; both operands unsigned (SIGNED = 0) or both two's complement (SIGNED = 1, the
+ * cubic's products of its signed tau).  Stage 1: the four partial products of the operands' halves
  * (a = ah 2^AL + al, b = bh 2^BL + bl; al bl, al bh, ah bl, ah bh), each registered: each is
  * at most 13 x 13 bits for 25-bit operands, one multiplier block of an FPGA (18 x 18 on the
  * ECP5, 16 x 16 on the UP5K) with nothing after it in that clock.  Stage 2: their sum,
  * registered.  A product of two 25-bit words in one stage spans several blocks and the adder
  * that joins them, and misses 100 MHz on the ECP5 (docs/brdf_unit.md, "Resources").
+ * SIGNED = 1: the high halves ah and bh are two's complement, the low halves unsigned, so the
+ * partial products al bh and ah bl are signed (al and bl get a 0 above them: one more bit, 14 x
+ * 13 for 25-bit operands) and ah bh is; each is sign-extended to the product's width and the sum
+ * taken modulo 2^(A_WIDTH + B_WIDTH), which holds the exact signed product.
  *
  * Reset: none of these registers is control state; RESET_ALL = 1 resets them all (rst_n is
  * synchronous, active low).
  *
  * Checks: an operand narrower than 2 bits (no halves) is refused at elaboration, by an instance
  * of the module brdf_mul_PARAMETER_ERROR_A_WIDTH_and_B_WIDTH_must_be_at_least_2, which does
- * not exist.
+ * not exist; so is a SIGNED other than 0 or 1 (brdf_mul_PARAMETER_ERROR_SIGNED_must_be_0_or_1).
  *
- * Sources: this file; instantiated by rtl/brdf_cosine_quadratic.v and rtl/brdf_quadratic.v
- * (rtl/brdf_unit.f).  Documentation: docs/brdf_unit.md.
+ * Sources: this file; instantiated by rtl/brdf_cosine_quadratic.v, rtl/brdf_quadratic.v and
+ * rtl/brdf_cubic.v (rtl/brdf_unit.f).  Documentation: docs/brdf_unit.md.
  */
 
 `resetall
@@ -24,10 +29,12 @@
 `default_nettype none
 
 module brdf_mul #(
-    // Bits of the unsigned operand a
+    // Bits of the operand a
     parameter A_WIDTH = 25,
-    // Bits of the unsigned operand b
+    // Bits of the operand b
     parameter B_WIDTH = 25,
+    // 0: a, b and p unsigned; 1: all three two's complement
+    parameter SIGNED = 0,
     // 0: no register here is reset; 1: rst_n resets every one
     parameter RESET_ALL = 0
 ) (
@@ -50,35 +57,73 @@ generate
     end
 endgenerate
 
-reg [AL+BL-1:0] ll_reg;
-reg [AL+BH-1:0] lh_reg;
-reg [AH+BL-1:0] hl_reg;
-reg [AH+BH-1:0] hh_reg;
-reg [W-1:0]     p_reg;
+generate
+    if (SIGNED != 0 && SIGNED != 1) begin : g_check_signed
+        brdf_mul_PARAMETER_ERROR_SIGNED_must_be_0_or_1 u_error ();
+    end
+endgenerate
+
+reg [W-1:0] p_reg;
 
 assign p = p_reg;
 
-// Stage 2: the partial products aligned (each fits W bits: the sum is the exact product)
-wire [W-1:0] ll_w = {{(W-AL-BL){1'b0}}, ll_reg};
-wire [W-1:0] lh_w = {{(W-AL-BH){1'b0}}, lh_reg} << BL;
-wire [W-1:0] hl_w = {{(W-AH-BL){1'b0}}, hl_reg} << AL;
-wire [W-1:0] hh_w = {{(W-AH-BH){1'b0}}, hh_reg} << (AL + BL);
+generate
+    if (SIGNED == 1) begin : g_signed
+        // Stage 1: al bl unsigned; al bh, ah bl, ah bh signed (an unsigned half gets a 0 on top)
+        reg        [AL+BL-1:0] ll_reg;
+        reg signed [AL+BH:0]   lh_reg;
+        reg signed [AH+BL:0]   hl_reg;
+        reg signed [AH+BH-1:0] hh_reg;
+        // Stage 2: each sign-extended to W bits and aligned; the sum modulo 2^W is the product
+        wire [W-1:0] ll_w = {{(W-AL-BL){1'b0}}, ll_reg};
+        wire [W-1:0] lh_w = {{(W-AL-BH-1){lh_reg[AL+BH]}}, lh_reg} << BL;
+        wire [W-1:0] hl_w = {{(W-AH-BL-1){hl_reg[AH+BL]}}, hl_reg} << AL;
+        wire [W-1:0] hh_w = {{(W-AH-BH){hh_reg[AH+BH-1]}}, hh_reg} << (AL + BL);
 
-always @(posedge clk) begin
-    ll_reg <= a[AL-1:0] * b[BL-1:0];
-    lh_reg <= a[AL-1:0] * b[B_WIDTH-1:BL];
-    hl_reg <= a[A_WIDTH-1:AL] * b[BL-1:0];
-    hh_reg <= a[A_WIDTH-1:AL] * b[B_WIDTH-1:BL];
-    p_reg <= ll_w + lh_w + hl_w + hh_w;
+        always @(posedge clk) begin
+            ll_reg <= a[AL-1:0] * b[BL-1:0];
+            lh_reg <= $signed({1'b0, a[AL-1:0]}) * $signed(b[B_WIDTH-1:BL]);
+            hl_reg <= $signed(a[A_WIDTH-1:AL]) * $signed({1'b0, b[BL-1:0]});
+            hh_reg <= $signed(a[A_WIDTH-1:AL]) * $signed(b[B_WIDTH-1:BL]);
+            p_reg <= ll_w + lh_w + hl_w + hh_w;
 
-    if (RESET_ALL != 0 && !rst_n) begin
-        ll_reg <= {(AL+BL){1'b0}};
-        lh_reg <= {(AL+BH){1'b0}};
-        hl_reg <= {(AH+BL){1'b0}};
-        hh_reg <= {(AH+BH){1'b0}};
-        p_reg <= {W{1'b0}};
+            if (RESET_ALL != 0 && !rst_n) begin
+                ll_reg <= {(AL+BL){1'b0}};
+                lh_reg <= {(AL+BH+1){1'b0}};
+                hl_reg <= {(AH+BL+1){1'b0}};
+                hh_reg <= {(AH+BH){1'b0}};
+                p_reg <= {W{1'b0}};
+            end
+        end
+    end else begin : g_unsigned
+        reg [AL+BL-1:0] ll_reg;
+        reg [AL+BH-1:0] lh_reg;
+        reg [AH+BL-1:0] hl_reg;
+        reg [AH+BH-1:0] hh_reg;
+
+        // Stage 2: the partial products aligned (each fits W bits: the sum is the exact product)
+        wire [W-1:0] ll_w = {{(W-AL-BL){1'b0}}, ll_reg};
+        wire [W-1:0] lh_w = {{(W-AL-BH){1'b0}}, lh_reg} << BL;
+        wire [W-1:0] hl_w = {{(W-AH-BL){1'b0}}, hl_reg} << AL;
+        wire [W-1:0] hh_w = {{(W-AH-BH){1'b0}}, hh_reg} << (AL + BL);
+
+        always @(posedge clk) begin
+            ll_reg <= a[AL-1:0] * b[BL-1:0];
+            lh_reg <= a[AL-1:0] * b[B_WIDTH-1:BL];
+            hl_reg <= a[A_WIDTH-1:AL] * b[BL-1:0];
+            hh_reg <= a[A_WIDTH-1:AL] * b[B_WIDTH-1:BL];
+            p_reg <= ll_w + lh_w + hl_w + hh_w;
+
+            if (RESET_ALL != 0 && !rst_n) begin
+                ll_reg <= {(AL+BL){1'b0}};
+                lh_reg <= {(AL+BH){1'b0}};
+                hl_reg <= {(AH+BL){1'b0}};
+                hh_reg <= {(AH+BH){1'b0}};
+                p_reg <= {W{1'b0}};
+            end
+        end
     end
-end
+endgenerate
 
 endmodule
 

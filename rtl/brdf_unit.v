@@ -3,8 +3,9 @@
  * BRDF unit of the thesis's family (docs/brdf.md, docs/brdf_unit.md): I = C * F_n(|zeta|) per
  * pixel along a scan line, zeta(0) = z0, zeta(i) = zeta(i-1) + dz, for the l + 1 pixels of a
  * line of l intervals, F one of the thesis's approximations of cos^n chosen by FORM
- * ("cosine_quadratic": (1 - (7n/16)(1 - cos))^2, "quadratic": a cos^2 + (1 - a) cos).  Every
- * result equals model.units.brdf.unit_line() bit for bit.
+ * ("cosine_quadratic": (1 - (7n/16)(1 - cos))^2, "quadratic": a cos^2 + (1 - a) cos, "cubic":
+ * c P(c), P a cubic about the match point in tau = 1 - r w).  Every result equals
+ * model.units.brdf.unit_line() bit for bit.
  *
  * Formats (model/units/brdf/, FixedConfig and its angle SpecularConfig):
  *   c_in   unsigned Q(C_INT_BITS).(C_FRAC_BITS), output LSBs
@@ -18,16 +19,16 @@
  * |zeta|, the angle-table address (|zeta| rounded to COS_ADDR_BITS fraction bits of pi/2, add
  * half, slice; an address of 2^COS_ADDR_BITS or more is pi/2 or beyond and reads as
  * w = 2^COS_DATA_BITS, cos = 0), the angle table (w = 1 - cos, synchronous read), for the
- * quadratic form the coefficient table (a per n, read when n is written, like ROM 9), the
- * form's datapath (rtl/brdf_<form>.v: the output word F in OUT_BITS fraction bits), then
- * C * F rounded to the output LSB and saturated (as multiplier 13 is).
+ * quadratic and cubic forms the coefficient table (a, or r p0 b1 b2, per n, read when n is
+ * written, like ROM 9), the form's datapath (rtl/brdf_<form>.v: the output word F in OUT_BITS
+ * fraction bits), then C * F rounded to the output LSB and saturated (as multiplier 13 is).
  *
  * Pipeline (one pixel per clock, 7 + FORM_LATENCY stages): S0 accumulator, S1 |zeta| without
  * its carry (sign, one's complement, "too big" flag), S2 |zeta| saturated below 2 (pi: every
  * clamped value still reads pi/2 or more), S3 the rounded address, S4 the angle-table read and
  * the overflow flag, S5 w (the overflow gate on the registered table word), then the form's
- * stages (5 for the cosine-quadratic, 6 for the quadratic: each wide product in two,
- * rtl/brdf_mul.v), then C * F (F gated to 0 for an n outside 1..1000) and rounding +
+ * stages (5 for the cosine-quadratic, 6 for the quadratic, 13 for the cubic: each wide product
+ * in two, rtl/brdf_mul.v), then C * F (F gated to 0 for an n outside 1..1000) and rounding +
  * saturation -> output.  After the edge that accepts start, busy is high for F + l cycles and
  * valid is high in cycles F .. F + l, F = 7 + FORM_LATENCY (the last one together with busy =
  * 0, when a new start is already accepted): model.units.brdf.cycles and valid_offsets.
@@ -44,14 +45,14 @@
  * synchronous and aborts a line.
  *
  * Checks: a parameter set model.units.brdf refuses (FixedConfig, and check_unit: the forms
- * with RTL, the quadratic's coefficient width) is refused at elaboration (an instance of a
- * module that does not exist, named after the rule, e.g.
- * brdf_unit_PARAMETER_ERROR_FORM_has_no_RTL_yet).  In simulation both table images are checked
+ * with RTL, the quadratic's and the cubic's coefficient width, the cubic's product widths) is
+ * refused at elaboration (an instance of a module that does not exist, named after the rule,
+ * e.g. brdf_unit_PARAMETER_ERROR_FORM_has_no_RTL_yet).  In simulation both table images are checked
  * at time 0 by the ROM module (rtl/shading_rom.v): a missing, short, malformed or
  * wrong-configuration file ends the run with a message and a non-zero exit status.
  *
- * Sources: this file, rtl/brdf_cosine_quadratic.v, rtl/brdf_quadratic.v, rtl/brdf_mul.v,
- * rtl/brdf_round.v and rtl/shading_rom.v (rtl/brdf_unit.f lists them).
+ * Sources: this file, rtl/brdf_cosine_quadratic.v, rtl/brdf_quadratic.v, rtl/brdf_cubic.v,
+ * rtl/brdf_mul.v, rtl/brdf_round.v and rtl/shading_rom.v (rtl/brdf_unit.f lists them).
  */
 
 `resetall
@@ -67,7 +68,7 @@
 `endif
 
 module brdf_unit #(
-    // The form: "cosine_quadratic" or "quadratic" ("cubic", "piecewise", "log2": no RTL yet)
+    // The form: "cosine_quadratic", "quadratic" or "cubic" ("piecewise", "log2": no RTL yet)
     parameter [8*16-1:0] FORM = "cosine_quadratic",
     // C register integer bits (output LSBs), 1..16
     parameter C_INT_BITS = 8,
@@ -85,15 +86,16 @@ module brdf_unit #(
     parameter COS_ADDR_BITS = 12,
     // Angle-table word bits D (w = 1 - cos, D fraction bits), 4..24
     parameter COS_DATA_BITS = 20,
-    // Coefficient word bits, 4..32 (the quadratic form: 10..32, a up to 786.44 needs 10)
+    // Coefficient word bits, 4..32 (the quadratic form: 10..32, a up to 786.44 needs 10; the
+    // cubic: 11..32, r up to 1443.2 needs 11, and at most 56 - WORK_BITS)
     parameter COEF_BITS = 18,
-    // Fraction bits P of the form's intermediate values, 4..28
+    // Fraction bits P of the form's intermediate values, 4..28 (the cubic: 4..25)
     parameter WORK_BITS = 24,
     // Fraction bits O of the form's output word, 1..24
     parameter OUT_BITS = 16,
     // $readmemh image of the angle table (w = 1 - cos), by model.units.brdf (make roms)
     parameter ANGLE_ROM_FILE = {`SHADING_ROM_DIR, "/brdf_w_a12_d20.hex"},
-    // $readmemh image of the coefficient table (quadratic form only), by model.units.brdf
+    // $readmemh image of the coefficient table (quadratic and cubic forms), by model.units.brdf
     parameter COEF_ROM_FILE = {`SHADING_ROM_DIR, "/brdf_quadratic_coef_c18_q10.8.hex"},
     // 0: rst_n resets the control state and the operand registers only; 1: also every
     // data-path register (the table read registers never: they must map onto block RAM)
@@ -139,7 +141,9 @@ localparam OFULL_WIDTH = OP_WIDTH - OSHIFT + 1;
 // defaults but for the six fields above, and check_unit).  Verilog-2005 has no
 // elaboration-time $error: a failing rule instantiates a module that does not exist, named
 // after the rule, and every tool stops with an error naming it.  62 is the model's
-// fixed.MAX_KERNEL_WIDTH; no product of the two forms comes near it.
+// fixed.MAX_KERNEL_WIDTH: the cubic's products (FixedConfig.product_widths) reach it,
+// tau x (b1 + b2 tau) at 2 (WORK_BITS + 5) + 2 bits and b2 x tau at COEF_BITS + WORK_BITS + 6;
+// no product of the other two forms comes near it.
 localparam [8*16-1:0] FORM_COSINE_QUADRATIC = "cosine_quadratic";
 localparam [8*16-1:0] FORM_QUADRATIC = "quadratic";
 localparam [8*16-1:0] FORM_CUBIC = "cubic";
@@ -147,14 +151,18 @@ localparam [8*16-1:0] FORM_PIECEWISE = "piecewise";
 localparam [8*16-1:0] FORM_LOG2 = "log2";
 localparam IS_COSINE_QUADRATIC = (FORM == FORM_COSINE_QUADRATIC);
 localparam IS_QUADRATIC = (FORM == FORM_QUADRATIC);
-localparam FORM_KNOWN = IS_COSINE_QUADRATIC || IS_QUADRATIC || FORM == FORM_CUBIC
+localparam IS_CUBIC = (FORM == FORM_CUBIC);
+localparam FORM_KNOWN = IS_COSINE_QUADRATIC || IS_QUADRATIC || IS_CUBIC
                         || FORM == FORM_PIECEWISE || FORM == FORM_LOG2;
 // The quadratic's a (786.44 at n = 1000) needs 10 integer bits (model QUADRATIC_A_INT_BITS;
 // the coefficient image's COEF_FRAC_BITS field carries the model's value)
 localparam QUADRATIC_A_INT_BITS = 10;
+// The cubic's r (1443.2 at n = 1000) needs 11 integer bits (model CUBIC_R_INT_BITS; its p0 is
+// Q1, b1 and b2 Q0: the image's fraction-bit fields carry the model's values)
+localparam CUBIC_R_INT_BITS = 11;
 
 localparam BAD_FORM = !FORM_KNOWN;
-localparam BAD_FORM_RTL = FORM_KNOWN && !IS_COSINE_QUADRATIC && !IS_QUADRATIC;
+localparam BAD_FORM_RTL = FORM_KNOWN && !IS_COSINE_QUADRATIC && !IS_QUADRATIC && !IS_CUBIC;
 localparam BAD_C_INT_BITS = (C_INT_BITS < 1 || C_INT_BITS > 16);
 localparam BAD_C_FRAC_BITS = (C_FRAC_BITS < 0 || C_FRAC_BITS > 16);
 localparam BAD_Z_INT_BITS = (Z_INT_BITS < 3 || Z_INT_BITS > 8);
@@ -167,7 +175,12 @@ localparam BAD_COS_DATA_BITS = (COS_DATA_BITS < 4 || COS_DATA_BITS > 24);
 localparam BAD_COEF_BITS = (COEF_BITS < 4 || COEF_BITS > 32);
 localparam BAD_COEF_BITS_QUADRATIC = !BAD_COEF_BITS && IS_QUADRATIC
                                      && COEF_BITS < QUADRATIC_A_INT_BITS;
+localparam BAD_COEF_BITS_CUBIC = !BAD_COEF_BITS && IS_CUBIC && COEF_BITS < CUBIC_R_INT_BITS;
 localparam BAD_WORK_BITS = (WORK_BITS < 4 || WORK_BITS > 28);
+// The cubic's tau x (b1 + b2 tau), 2 (P + 5) + 2 bits, and b2 x tau, C + P + 6 bits, within 62
+localparam BAD_WORK_BITS_CUBIC = !BAD_WORK_BITS && IS_CUBIC && WORK_BITS > 25;
+localparam BAD_COEF_WORK_CUBIC = !BAD_COEF_BITS && !BAD_WORK_BITS && !BAD_WORK_BITS_CUBIC
+                                 && IS_CUBIC && COEF_BITS + WORK_BITS > 56;
 localparam BAD_OUT_BITS = (OUT_BITS < 1 || OUT_BITS > 24);
 
 generate
@@ -211,8 +224,18 @@ generate
     if (BAD_COEF_BITS_QUADRATIC) begin : g_check_coef_bits_quadratic
         brdf_unit_PARAMETER_ERROR_COEF_BITS_must_be_10_to_32_for_the_quadratic_form u_error ();
     end
+    if (BAD_COEF_BITS_CUBIC) begin : g_check_coef_bits_cubic
+        brdf_unit_PARAMETER_ERROR_COEF_BITS_must_be_11_to_32_for_the_cubic_form u_error ();
+    end
     if (BAD_WORK_BITS) begin : g_check_work_bits
         brdf_unit_PARAMETER_ERROR_WORK_BITS_must_be_4_to_28 u_error ();
+    end
+    if (BAD_WORK_BITS_CUBIC) begin : g_check_work_bits_cubic
+        brdf_unit_PARAMETER_ERROR_WORK_BITS_must_be_4_to_25_for_the_cubic_form u_error ();
+    end
+    if (BAD_COEF_WORK_CUBIC) begin : g_check_coef_work_cubic
+        brdf_unit_PARAMETER_ERROR_COEF_BITS_plus_WORK_BITS_above_56_for_the_cubic_form
+            u_error ();
     end
     if (BAD_OUT_BITS) begin : g_check_out_bits
         brdf_unit_PARAMETER_ERROR_OUT_BITS_must_be_1_to_24 u_error ();
@@ -223,10 +246,10 @@ generate
 endgenerate
 
 // What the form reads of n (register 4's form part): the quadratic's coefficient word a, the
-// cosine-quadratic's 7n (13 bits: n up to 1023)
-localparam K_WIDTH = IS_QUADRATIC ? COEF_BITS : 13;
+// cubic's four {r, p0, b1, b2}, the cosine-quadratic's 7n (13 bits: n up to 1023)
+localparam K_WIDTH = IS_QUADRATIC ? COEF_BITS : IS_CUBIC ? 4 * COEF_BITS : 13;
 // The form's pipeline stages (model.units.brdf.FORM_LATENCY)
-localparam FORM_LATENCY = IS_QUADRATIC ? 6 : 5;
+localparam FORM_LATENCY = IS_QUADRATIC ? 6 : IS_CUBIC ? 13 : 5;
 localparam LAST_STAGE = 6 + FORM_LATENCY;
 
 // ---------------------------------------------------------------- operand registers
@@ -258,7 +281,9 @@ reg                 nerr_run_reg;
 // ---------------------------------------------------------------- pipeline
 // S0 acc_reg, S1 low_reg + neg_reg + big_reg, S2 mag_reg, S3 addr_reg (rounded address and
 // its overflow bit), S4 angle_q (table read) + ovf_reg, S5 w_reg, S6..S9 the form (its y on
-// form_y), S10 out_prod_reg (C * F), S11 intensity_reg.  v_reg[s] marks a pixel in stage s.
+// form_y), S10 out_prod_reg (C * F), S11 intensity_reg (the stage numbers of the
+// cosine-quadratic: each form's own stages come between S5 and C * F).  v_reg[s] marks a pixel
+// in stage s.
 reg [LEN_WIDTH-1:0]     cnt_reg;
 reg [ACC_WIDTH-1:0]     acc_reg;
 reg [MAG_WIDTH-1:0]     low_reg;
@@ -468,6 +493,20 @@ generate
             .k(k_run_reg),
             .y(form_y)
         );
+    end else if (IS_CUBIC) begin : g_cubic
+        brdf_cubic #(
+            .COS_DATA_BITS(COS_DATA_BITS),
+            .WORK_BITS(WORK_BITS),
+            .OUT_BITS(OUT_BITS),
+            .COEF_BITS(COEF_BITS),
+            .RESET_ALL(RESET_ALL)
+        ) u_form (
+            .clk(clk),
+            .rst_n(rst_n),
+            .w(w_reg),
+            .k(k_run_reg),
+            .y(form_y)
+        );
     end else if (IS_COSINE_QUADRATIC) begin : g_cosine_quadratic
         brdf_cosine_quadratic #(
             .COS_DATA_BITS(COS_DATA_BITS),
@@ -491,12 +530,13 @@ generate
 endgenerate
 
 // ---------------------------------------------------------------- tables
-// The angle table (stage S4, every cycle) and, for the quadratic form, the coefficient table
-// (read with n while idle, like the specular unit's ROM 9): instances of the ROM module
-// (rtl/shading_rom.v), which checks each image at time 0 in simulation: magic ("BRDA",
-// "BRDC"), depth, width, the parameters the contents depend on (the angle table:
-// COS_ADDR_BITS, COS_DATA_BITS, TABLE = 0 (w = 1 - cos); the coefficient table: FORM as its
-// index in model.units.brdf.FORMS, COEF_BITS, COEF_FRAC_BITS), the checksum of the data words
+// The angle table (stage S4, every cycle) and, for the quadratic and cubic forms, the
+// coefficient table (read with n while idle, like the specular unit's ROM 9): instances of the
+// ROM module (rtl/shading_rom.v), which checks each image at time 0 in simulation: magic
+// ("BRDA", "BRDC", the cubic's "BRD3"), depth, width, the parameters the contents depend on
+// (the angle table: COS_ADDR_BITS, COS_DATA_BITS, TABLE = 0 (w = 1 - cos); the coefficient
+// table: FORM as its index in model.units.brdf.FORMS, COEF_BITS, and COEF_FRAC_BITS, or the
+// cubic's R_FRAC_BITS, P0_FRAC_BITS, B1_FRAC_BITS, B2_FRAC_BITS), the checksum of the data words
 // and the end mark; a bad image prints the file, the field, what it holds and what this
 // instance needs, and ends the run with a non-zero exit status.  Their read registers are
 // never reset, in either RESET_ALL mode, so that they map onto block RAM.  Neither needs one:
@@ -556,6 +596,37 @@ generate
             .addr_b({N_WIDTH{1'b0}}),
             .q_b(coef_unused_b)
         );
+    end else if (IS_CUBIC) begin : g_coef_rom_cubic
+        // The cubic's word of n, 4 COEF_BITS wide, as two words of the image (the ROM module
+        // holds words of 64 bits at most): {r, p0} at 2 (n - 1), {b1, b2} at 2 (n - 1) + 1,
+        // both read in the same clock by the ROM's two ports
+        wire [2*COEF_BITS-1:0] coef_hi;
+        wire [2*COEF_BITS-1:0] coef_lo;
+
+        shading_rom #(
+            .WIDTH(2 * COEF_BITS),
+            .DEPTH(2000),
+            .ADDR_BITS(N_WIDTH + 1),
+            .PORTS(2),
+            .FILE(COEF_ROM_FILE),
+            .NAME("COEF_ROM_FILE"),
+            .MAGIC("BRD3"),
+            .NUM_FIELDS(6),
+            .FIELD_0(1), .FIELD_1(COEF_BITS), .FIELD_2(COEF_BITS - CUBIC_R_INT_BITS),
+            .FIELD_3(COEF_BITS - 1), .FIELD_4(COEF_BITS), .FIELD_5(COEF_BITS),
+            .FIELD_NAMES({"FORM            ", "COEF_BITS       ", "R_FRAC_BITS     ",
+                          "P0_FRAC_BITS    ", "B1_FRAC_BITS    ", "B2_FRAC_BITS    ",
+                          {(8*16*6){1'b0}}})
+        ) u_coef_rom (
+            .clk(clk),
+            .rd_en_a(!busy_reg && n_we),
+            .addr_a({n_addr, 1'b0}),
+            .q_a(coef_hi),
+            .rd_en_b(!busy_reg && n_we),
+            .addr_b({n_addr, 1'b1}),
+            .q_b(coef_lo)
+        );
+        assign k_word = {coef_hi, coef_lo};
     end else begin : g_seven_n
         // The cosine-quadratic's m = 7n/16: 7n (8n - n) registered when n is written
         reg [12:0] k_reg;

@@ -237,7 +237,8 @@ async def test_random_strobes(dut):
 async def test_n_register_read_on_the_n_write(dut):
     """What the unit keeps of n is taken when n is written: right after an idle-cycle n write
     the coefficient table's read register holds the model's word of n (address n - 1; word 0
-    for an n the unit refuses), or the cosine-quadratic's register 7n; nerr_reg the n error."""
+    for an n the unit refuses; the cubic's two words of n, 2 (n - 1) and 2 (n - 1) + 1, on the
+    ROM's two ports), or the cosine-quadratic's register 7n; nerr_reg the n error."""
     tb = BrdfTB(dut)
     await tb.reset()
     cfg = tb.cfg
@@ -246,8 +247,13 @@ async def test_n_register_read_on_the_n_write(dut):
         ok = 1 <= n <= specular.N_MAX
         await tb.load(n=n)
         await ReadOnly()
-        if words is not None:
-            want = int(words[n - 1 if ok else 0])
+        i = n - 1 if ok else 0
+        if cfg.form == "cubic":
+            rom = dut.g_coef_rom_cubic.u_coef_rom
+            want = (int(words[2 * i]), int(words[2 * i + 1]))
+            got = (rom.q_a_reg.value.to_unsigned(), rom.g_port_b.q_b_reg.value.to_unsigned())
+        elif words is not None:
+            want = int(words[i])
             got = dut.g_coef_rom.u_coef_rom.q_a_reg.value.to_unsigned()
         else:
             want, got = 7 * n, dut.g_seven_n.k_reg.value.to_unsigned()

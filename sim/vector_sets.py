@@ -67,6 +67,7 @@ SETS: dict[str, tuple[units.UnitConfig, int]] = {
     "specular_up5k": (specular.UP5K, OTHER_CYCLES),
     "brdf_cosine_quadratic": (brdf.UNIT_CONFIGS["cosine_quadratic"], DEFAULT_CYCLES),
     "brdf_quadratic": (brdf.UNIT_CONFIGS["quadratic"], DEFAULT_CYCLES),
+    "brdf_cubic": (brdf.UNIT_CONFIGS["cubic"], DEFAULT_CYCLES),
 }
 
 

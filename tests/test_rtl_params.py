@@ -382,10 +382,11 @@ SPECULAR_CASES = [
 ]
 
 QUAD = {"form": "quadratic"}
+CUBIC = {"form": "cubic"}
 BRDF_CASES = [
     Case("cosine_quadratic", {}, None),
     Case("quadratic", QUAD, None),
-    Case("cubic", {"form": "cubic"}, "FORM_has_no_RTL_yet"),
+    Case("cubic", CUBIC, None),
     Case("piecewise", {"form": "piecewise"}, "FORM_has_no_RTL_yet"),
     Case("log2", {"form": "log2"}, "FORM_has_no_RTL_yet"),
     Case("phong", {"form": "phong"}, "FORM_must_be_a_form_of_the_family"),
@@ -440,6 +441,30 @@ BRDF_CASES = [
     ),
     Case("quadratic coef_bits=3", {**QUAD, "coef_bits": 3}, "COEF_BITS_must_be_4_to_32"),
     Case("quadratic coef_bits=32", {**QUAD, "coef_bits": 32}, None),
+    # The cubic's r (1443.2) needs 11 integer bits; its products fit 62 bits (FixedConfig's
+    # product_widths: 2 (P + 5) + 2 and C + P + 6)
+    Case("cubic coef_bits=11", {**CUBIC, "coef_bits": 11}, None),
+    Case(
+        "cubic coef_bits=10",
+        {**CUBIC, "coef_bits": 10},
+        "COEF_BITS_must_be_11_to_32_for_the_cubic_form",
+    ),
+    Case("cubic coef_bits=3", {**CUBIC, "coef_bits": 3}, "COEF_BITS_must_be_4_to_32"),
+    Case("cubic coef_bits=32", {**CUBIC, "coef_bits": 32}, None),
+    Case("cubic work_bits=4", {**CUBIC, "work_bits": 4}, None),
+    Case("cubic work_bits=25", {**CUBIC, "work_bits": 25}, None),
+    Case(
+        "cubic work_bits=26",
+        {**CUBIC, "work_bits": 26},
+        "WORK_BITS_must_be_4_to_25_for_the_cubic_form",
+    ),
+    Case("cubic work_bits=29", {**CUBIC, "work_bits": 29}, "WORK_BITS_must_be_4_to_28"),
+    Case("cubic coef_bits+work_bits=56", {**CUBIC, "coef_bits": 31, "work_bits": 25}, None),
+    Case(
+        "cubic coef_bits+work_bits=57",
+        {**CUBIC, "coef_bits": 32, "work_bits": 25},
+        "COEF_BITS_plus_WORK_BITS_above_56_for_the_cubic_form",
+    ),
     # The accumulator
     Case("accumulator 62 bits", {"z_int_bits": 8, "z_frac_bits": 38, "len_width": 16}, None),
     Case(
@@ -454,6 +479,11 @@ BRDF_CASES = [
     Case(
         "quadratic shifts <= 0",
         {**QUAD, "cos_data_bits": 4, "work_bits": 28, "out_bits": 24, "coef_bits": 10},
+        None,
+    ),
+    Case(
+        "cubic shifts <= 0",
+        {**CUBIC, "cos_data_bits": 4, "work_bits": 20, "out_bits": 24, "coef_bits": 11},
         None,
     ),
 ]
@@ -471,7 +501,11 @@ def _reset_all_cases(base: dict) -> list[Case]:
 
 
 CASES = {
-    "brdf_unit": BRDF_CASES + _reset_all_cases(QUAD),
+    "brdf_unit": [
+        *BRDF_CASES,
+        *_reset_all_cases(QUAD),
+        Case("cubic RESET_ALL=1", CUBIC, None, {"RESET_ALL": 1}),
+    ],
     "divider_shift": DIVIDER_CASES + _reset_all_cases(DIV),
     "gouraud_segment": GOURAUD_CASES + _reset_all_cases(GOU),
     "specular_unit": SPECULAR_CASES + _reset_all_cases({}),

@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: Apache-2.0
 """Run the BRDF unit's cocotb bench (sim/tb_brdf.py) under SIM (Icarus by default): each form
 with RTL at its default widths (``brdf.UNIT_CONFIGS``), RESET_ALL = 0 and, for the tests that
-reset, 1; and the saved mutant ``brdf_unit_round_quarter`` (tests/mutants), which it must fail
-naming intensity."""
+reset, 1; and the saved mutants ``brdf_unit_round_quarter`` and, for the cubic,
+``brdf_unit_cubic_b_word`` (tests/mutants), which it must fail naming intensity."""
 
 from __future__ import annotations
 
@@ -67,6 +67,23 @@ def test_bench_fails_on_the_round_quarter_mutant(request) -> None:
         build="_round_quarter",
         testcase=["test_extremes"],
         rtl=mutants.build("brdf_unit_round_quarter", SIM_BUILD / "mutants"),
+        expect_failure=True,
+    )
+    record_sim(request, records)
+    errors = [e for r in records for e in r["first_errors"]]
+    assert sum(r["errors"] for r in records) > 0 and errors, records
+    assert all("mismatch" in e and "'intensity'" in e and "reproduce with" in e for e in errors)
+
+
+def test_bench_fails_on_the_cubic_b_word_mutant(request) -> None:
+    """The cubic's b1 and b2 read from the word of r and p0: the bench fails, every error it
+    reports is an intensity mismatch of a named job."""
+    records = _run(
+        "cubic",
+        0,
+        build="_b_word",
+        testcase=["test_extremes"],
+        rtl=mutants.build("brdf_unit_cubic_b_word", SIM_BUILD / "mutants"),
         expect_failure=True,
     )
     record_sim(request, records)

@@ -62,6 +62,7 @@ CONFIGS = {
     # the BRDF unit: each form with RTL at its default widths
     "brdf_cosine_quadratic": (brdf.UNIT_CONFIGS["cosine_quadratic"], SHORT_SOAK),
     "brdf_quadratic": (brdf.UNIT_CONFIGS["quadratic"], SHORT_SOAK),
+    "brdf_cubic": (brdf.UNIT_CONFIGS["cubic"], SHORT_SOAK),
 }
 
 

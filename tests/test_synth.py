@@ -134,7 +134,7 @@ def test_wrapper_reads_the_ports_from_the_rtl() -> None:
         (("gouraud_segment", divider.DEFAULT, "hx8k"), ["DividerConfig", "GouraudConfig"]),
         (("brdf_unit", "default", "hx8k"), ["'default'", "cosine_quadratic, quadratic"]),
         (("brdf_unit", divider.DEFAULT, "hx8k"), ["DividerConfig", "FixedConfig"]),
-        (("brdf_unit", brdf.FixedConfig("cubic"), "hx8k"), ["'cubic'", "RTL"]),
+        (("brdf_unit", brdf.FixedConfig("piecewise"), "hx8k"), ["'piecewise'", "RTL"]),
     ],
 )
 def test_bad_input_is_refused(args: tuple, words: list[str]) -> None:
@@ -220,8 +220,8 @@ def test_the_units_synthesise_their_listed_files() -> None:
     below = {
         "gouraud_segment": [],
         "brdf_unit": [
-            "brdf_cosine_quadratic.v", "brdf_quadratic.v", "brdf_mul.v", "brdf_round.v",
-            "shading_rom.v",
+            "brdf_cosine_quadratic.v", "brdf_quadratic.v", "brdf_cubic.v", "brdf_mul.v",
+            "brdf_round.v", "shading_rom.v",
         ],
     }  # fmt: skip
     for unit in UNITS:
@@ -353,29 +353,46 @@ def test_the_brdf_page_carries_the_recorded_resources() -> None:
     for part in PARTS:
         spec = row["specular_unit", "default", part]
         placed = [x for x in (spec, row.get(("specular_unit", "up5k", part))) if x and x.fmax_mhz]
-        cq, q = (row["brdf_unit", form, part] for form in forms)
-        for r in (cq, q):
-            assert r.fits and r.ok, r  # both forms fit every part, targets met
+        cq, q, cubic = (row["brdf_unit", form, part] for form in forms)
+        for r in (cq, q, cubic):
             assert r.bram < spec.bram and r.ff > spec.ff  # fewer block RAMs, more flip-flops
             if PARTS[part].dsp and part != "gw1nr-9":
                 assert r.dsp > spec.dsp  # more DSP blocks where the part has them
             if PARTS[part].dsp == 0:
                 assert r.dsp == 0
+            if not r.fits:
+                continue
+            assert r.ok, r
             if part in ("up5k", "gw1nr-9"):  # slower there than the specular unit
                 assert all(r.fmax_mhz < other.fmax_mhz for other in placed), (r, placed)
             if part == "ecp5-25f":  # faster there than the specular unit's default
                 assert r.fmax_mhz > spec.fmax_mhz, (r, spec)
+        assert cq.fits and q.fits  # both fit every part, targets met
         assert cq.lut < q.lut and cq.ff < q.ff and cq.bram < q.bram  # the cheaper form
+        # the cubic: more of everything than the quadratic; no iCE40 holds it
+        assert cubic.lut > q.lut and cubic.ff > q.ff and cubic.bram > q.bram
+        assert cubic.dsp > q.dsp if PARTS[part].dsp else cubic.dsp == 0
+        assert cubic.fits == (part not in ("up5k", "hx8k")), cubic
+        if PARTS[part].dsp:
+            assert cubic.dsp == 17
     for part in ("up5k", "hx8k"):
         assert not row["specular_unit", "default", part].fits
+        assert row["brdf_unit", "cubic", part].bram == 38 > PARTS[part].bram
+    assert "ICESTORM_DSP 17/8" in row["brdf_unit", "cubic", "up5k"].overflow
+    assert "ICESTORM_LC" in row["brdf_unit", "cubic", "hx8k"].overflow
     spec_target = {k[2]: v for k, v in TARGETS.items() if k[0] == "specular_unit"}
-    for form in forms:  # the specular unit's 100 MHz on the ECP5; 35 MHz, under 40, on the UP5K
-        ecp5, up5k = row["brdf_unit", form, "ecp5-25f"], row["brdf_unit", form, "up5k"]
+    for form in forms:  # the specular unit's 100 MHz on the ECP5
+        ecp5 = row["brdf_unit", form, "ecp5-25f"]
         assert ecp5.target_mhz == spec_target["ecp5-25f"] <= ecp5.fmax_mhz
-        assert up5k.target_mhz == 35 <= up5k.fmax_mhz < spec_target["up5k"]
+    # 35 MHz on the UP5K: the quadratic under 40, the cosine-quadratic at its edge; the cubic
+    # has no target there
+    cq_up5k, q_up5k = (row["brdf_unit", form, "up5k"] for form in ("cosine_quadratic", "quadratic"))
+    assert cq_up5k.target_mhz == q_up5k.target_mhz == 35 <= q_up5k.fmax_mhz < spec_target["up5k"]
+    assert 35 <= cq_up5k.fmax_mhz < 42 and row["brdf_unit", "cubic", "up5k"].target_mhz is None
     hardware = brdf.format_hardware()  # the cost table the list cites: 3 multipliers against 2
     assert "base x base (25 x 25)" in hardware and "c x (1 - a w) (21 x 25)" in hardware
-    for unit, count in [(f"brdf_unit, {f}", 3) for f in forms] + [("specular_unit (the", 2)]:
+    counts = {f"brdf_unit, {f}": n for f, n in zip(forms, (3, 3, 5), strict=True)}
+    for unit, count in [*counts.items(), ("specular_unit (the", 2)]:
         (line,) = [ln for ln in hardware.splitlines() if ln.startswith(f"| {unit}")]
         assert line.split(" | ")[1].startswith(f"{count}: "), line
 
@@ -438,13 +455,14 @@ def test_the_slowest_clock_gives_the_critical_path() -> None:
     )  # fmt: skip
 
 
-def test_the_cli_runs_both_brdf_forms_without_a_config() -> None:
+def test_the_cli_runs_every_brdf_form_without_a_config() -> None:
     spec = importlib.util.spec_from_file_location("synth_script", ROOT / "scripts/synth.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     parser_args = module.argparse.Namespace(units=["brdf_unit"], parts=["xc7"], config=None)
     assert module.runs_of(parser_args) == [
         ("brdf_unit", "cosine_quadratic", "xc7"), ("brdf_unit", "quadratic", "xc7"),
+        ("brdf_unit", "cubic", "xc7"),
     ]  # fmt: skip
     parser_args.config = ["quadratic"]
     assert module.runs_of(parser_args) == [("brdf_unit", "quadratic", "xc7")]

@@ -132,7 +132,8 @@ def test_brdf_knob_puts_each_form_in_the_highlight():
     for form in brdf.RTL_FORMS:
         p = trade.TradePoint(brdf=form)
         cfg = p.to_pipeline_config()
-        assert cfg == pipeline.BRDF_METHODS[form]  # the demo's method of that form
+        if form in pipeline.BRDF_METHODS:  # the cubic is no demo method yet
+            assert cfg == pipeline.BRDF_METHODS[form]  # the demo's method of that form
         assert cfg.brdf == brdf.UNIT_CONFIGS[form] and cfg.brdf.angle == cfg.specular
         assert p.label == f"brdf={form}" and p.family == form
         assert hardware.unit_configs(cfg) == [
@@ -219,7 +220,7 @@ def test_brdf_points_figures_and_the_front_across_families(tmp_path):
         except KeyError:
             assert np.isnan(r["multipliers"]) and np.isnan(r["mult_bits"])
         else:
-            assert r["multipliers"] == len(mults) == 3
+            assert r["multipliers"] == len(mults) >= 3  # the cubic: 5
             assert r["mult_bits"] == sum(a * b for _, a, b in mults)
         assert trade.check_result(trade.TradePoint(scene="sphere", size=TINY, brdf=form), r) is None
     # hw Mpx/s: the core's px/clk x Fmax, so none for a BRDF configuration

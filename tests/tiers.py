@@ -164,6 +164,10 @@ SLOW: dict[str, str] = {
     "tests/test_rtl_params.py::test_rtl_refuses_exactly_what_the_model_refuses[gouraud_segment]": (
         "every refused Gouraud parameter under three tools; quick: the divider's"
     ),
+    "tests/test_rtl_params.py::test_rtl_refuses_exactly_what_the_model_refuses[brdf_unit]": (
+        "every refused BRDF parameter of the three forms under three tools (26 s); quick: the "
+        "divider's, and test_case_table_agrees_with_the_model for the BRDF table"
+    ),
     # -- coverage: an exhaustive bound its waivers cite (the whole run is make coverage's)
     "tests/test_coverage.py::test_the_core_s_gouraud_accumulator_bound_holds_for_every_span": (
         "every length and every difference of the default divider (4 billion cases, 27 s); "

@@ -150,16 +150,20 @@ TARGETS: dict[tuple[str, str, str], float] = {
     ("specular_unit", "up5k", "up5k"): 40.0,
     # the BRDF unit, each form at its default widths.  ECP5-25F: the specular unit's 100 MHz
     # (each wide product in two stages, rtl/brdf_mul.v: in one, the MULT18X18D blocks' partial
-    # products were summed in the same clock, 87.8 and 91.1 MHz).  UP5K: 35 MHz.  The UP5K's
-    # 40 MHz is the specular unit's for its narrowed UP5K configuration; at the BRDF unit's
-    # default widths (24 work bits) the step after the first product, a 25-bit 1 - m
-    # (cosine-quadratic) or a 35-bit rounding carry (quadratic), takes 25 to 27 ns of the UP5K's
-    # carry chains (39.9 and 36.5 MHz, seed 1): a narrower configuration for that part, as the
-    # specular unit has, is the way to 40 MHz (docs/brdf_unit.md, "Resources").
+    # products were summed in the same clock, 87.8 and 91.1 MHz; the cubic's four products each
+    # so, 110.4 MHz).  UP5K: 35 MHz.  The UP5K's 40 MHz is the specular unit's for its narrowed
+    # UP5K configuration; at the BRDF unit's default widths (24 work bits) the step after the
+    # first product, a 25-bit 1 - m (cosine-quadratic) or a 35-bit rounding carry (quadratic),
+    # takes 24 to 27 ns of the UP5K's carry chains (41.2 and 36.5 MHz, seed 1; the
+    # cosine-quadratic placed at 39.9 before the cubic's generate blocks renamed its cells: it
+    # sits at the edge of 40): a narrower configuration for that part, as the specular unit has,
+    # is the way to 40 MHz (docs/brdf_unit.md, "Resources").  The cubic has no UP5K target: its
+    # tables and its 17 multiplier blocks do not fit the part (38 of 30 RAM40s, 17 of 8 DSPs).
     ("brdf_unit", "cosine_quadratic", "up5k"): 35.0,
     ("brdf_unit", "quadratic", "up5k"): 35.0,
     ("brdf_unit", "cosine_quadratic", "ecp5-25f"): 100.0,
     ("brdf_unit", "quadratic", "ecp5-25f"): 100.0,
+    ("brdf_unit", "cubic", "ecp5-25f"): 100.0,
     # the streaming shading core (sim.synth_tops names its configurations): both paths, and
     # the highlight path alone
     ("shading_core", "default", "ecp5-25f"): 100.0,

@@ -76,12 +76,13 @@ UNITS: dict[str, tuple[type, dict[str, object]]] = {
         },
     ),
     # one configuration per form, each at its default widths (no "default": make synth runs
-    # both on every part; None picks the first, the RTL's default FORM)
+    # each on every part; None picks the first, the RTL's default FORM)
     "brdf_unit": (
         brdf.FixedConfig,
         {
             "cosine_quadratic": brdf.UNIT_CONFIGS["cosine_quadratic"],
             "quadratic": brdf.UNIT_CONFIGS["quadratic"],
+            "cubic": brdf.UNIT_CONFIGS["cubic"],
         },
     ),
 }

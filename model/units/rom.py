@@ -7,7 +7,7 @@ check words: 32-bit fields, each in ``chunks(width)`` words of ``width`` bits, l
 after a ``// name = value`` comment:
 
 * ``magic``: the kind of ROM (``MAGIC``: ``"DIVR"``, ``"SR09"``, ``"SR12"``, ``"BRDA"``,
-  ``"BRDC"`` in ASCII);
+  ``"BRDC"``, ``"BRD3"`` in ASCII);
 * ``depth``, ``width``: of the data words;
 * the configuration the contents were built for, one field per RTL parameter
   (``KIND_FIELDS``; ``ALPHA`` as its index in ``ALPHA_NAMES``, a K of an unused table as 0);
@@ -61,6 +61,7 @@ MAGIC: dict[str, int] = {
     "specular_cos": _tag("SR12"),
     "brdf_angle": _tag("BRDA"),
     "brdf_coef": _tag("BRDC"),
+    "brdf_cubic_coef": _tag("BRD3"),
 }
 """The first check field of each kind of image."""
 END_MARK = _tag("END!")
@@ -73,6 +74,9 @@ KIND_FIELDS: dict[str, tuple[str, ...]] = {
     "specular_cos": ("ROM_ADDR_BITS", "ROM_DATA_BITS", "NUM_TABLES", "K0", "K1", "K2", "K3"),
     "brdf_angle": ("COS_ADDR_BITS", "COS_DATA_BITS", "TABLE"),
     "brdf_coef": ("FORM", "COEF_BITS", "COEF_FRAC_BITS"),
+    "brdf_cubic_coef": (
+        *("FORM", "COEF_BITS", "R_FRAC_BITS", "P0_FRAC_BITS", "B1_FRAC_BITS", "B2_FRAC_BITS"),
+    ),
 }
 """The configuration fields of each kind, in image order: the RTL parameters they must equal."""
 KIND_TITLES = {
@@ -81,6 +85,7 @@ KIND_TITLES = {
     "specular_cos": "specular_unit ROM 12 (cos^k)",
     "brdf_angle": "brdf_unit angle table",
     "brdf_coef": "brdf_unit coefficient table",
+    "brdf_cubic_coef": "brdf_unit cubic coefficient table",
 }
 ALPHA_NAMES = ("taylor", "inflection")
 """``ALPHA`` field values: the index of the mode (the RTL's ``ALPHA`` string parameter)."""

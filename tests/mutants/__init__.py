@@ -24,6 +24,9 @@ snippet is no longer in the RTL exactly once, ``build`` fails instead of testing
   instead of a half (the rounding constant of C * F shifted one bit down), so C * F rounds up
   only from three quarters on.  The cocotb bench (tests/test_sim_brdf.py) must fail on it,
   naming intensity.
+* ``brdf_unit_cubic_b_word``: the cubic's coefficient table reads the word of r and p0 on both
+  ports (port B's address bit 0 stuck at 0), so b1 and b2 are r and p0's bits.  The cocotb
+  bench must fail on it with the cubic, naming intensity.
 """
 
 from __future__ import annotations
@@ -67,6 +70,12 @@ MUTANTS = {
         "brdf_unit_round_quarter",
         "({{OP_WIDTH{1'b0}}, 1'b1} << (OSHIFT - 1));\n",
         "({{OP_WIDTH{1'b0}}, 1'b1} << (OSHIFT - 2));  // MUTANT: a quarter LSB\n",
+        unit="brdf_unit",
+    ),
+    "brdf_unit_cubic_b_word": Mutant(
+        "brdf_unit_cubic_b_word",
+        "            .addr_b({n_addr, 1'b1}),\n",
+        "            .addr_b({n_addr, 1'b0}),  // MUTANT: {r, p0} read as {b1, b2}\n",
         unit="brdf_unit",
     ),
 }

@@ -79,6 +79,8 @@ from model.units.brdf.fixed_accuracy import (
     interval_ends,
 )
 from model.units.brdf.unit import (
+    CUBIC_COEF_WORDS,
+    CUBIC_R_INT_BITS,
     FORM_LATENCY,
     FRONT_STAGES,
     QUADRATIC_A_INT_BITS,
@@ -113,7 +115,9 @@ __all__ = [
     "COEFFICIENTS",
     "CONFIGS",
     "COS_K",
+    "CUBIC_COEF_WORDS",
     "CUBIC_Q",
+    "CUBIC_R_INT_BITS",
     "FORMS",
     "FORM_LATENCY",
     "FRONT_STAGES",

@@ -28,6 +28,7 @@ from model.units import fixed as fx
 from model.units import rom
 from model.units.brdf.fixed import (
     COSINE_QUADRATIC,
+    CUBIC,
     FORMS,
     QUADRATIC,
     FixedConfig,
@@ -44,7 +45,7 @@ FRONT_STAGES = 7
 """Clock edges of every form's front and back: the accumulator, |zeta| in two steps, the
 angle-table address, the table read, the w gate (w = 2**D from pi/2 on), and x C; the
 rounded, saturated result is registered at the next edge (docs/brdf_unit.md, "Timing")."""
-FORM_LATENCY: dict[str, int] = {"cosine_quadratic": 5, "quadratic": 6}
+FORM_LATENCY: dict[str, int] = {"cosine_quadratic": 5, "quadratic": 6, "cubic": 13}
 """Pipeline stages of each form's datapath module (rtl/brdf_<form>.v), w in to the output word:
 every form with RTL (the others raise in ``check_unit``)."""
 RTL_FORMS = tuple(FORM_LATENCY)
@@ -53,9 +54,19 @@ QUADRATIC_A_INT_BITS = 10
 10 (``FixedConfig.coef_formats`` gives the same for every coef_bits from 10 on, which the tests
 check; the RTL derives a's fraction bits as COEF_BITS - 10 and the ROM image's header carries
 the model's, so a disagreement stops the simulation)."""
+CUBIC_R_INT_BITS = 11
+"""Integer bits of the cubic's coefficient r = 1/(1 - s): its largest value, 1443.2 at n = 1000,
+needs 11 (``coef_formats`` gives r Q11, p0 Q1, b1 and b2 Q0 for every coef_bits from 11 on,
+which the tests check; the RTL derives the four fraction widths from COEF_BITS and the image's
+header carries the model's)."""
+CUBIC_COEF_WORDS = 2
+"""Image words per n of the cubic's coefficient table: {r, p0} at 2 (n - 1), {b1, b2} at
+2 (n - 1) + 1, each 2 coef_bits wide (the ROM module rtl/shading_rom.v holds words of 64 bits
+at most; the unit reads both in one clock through the ROM's two ports)."""
 UNIT_CONFIGS: dict[str, FixedConfig] = {
     "cosine_quadratic": COSINE_QUADRATIC,
     "quadratic": QUADRATIC,
+    "cubic": CUBIC,
 }
 """The configurations whose ROM images are committed under rtl/rom/ (``make roms``) and which
 the bench runs: each form's default widths (``fixed.CONFIGS``)."""
@@ -63,8 +74,10 @@ the bench runs: each form's default widths (``fixed.CONFIGS``)."""
 
 def check_unit(cfg: FixedConfig) -> FixedConfig:
     """``cfg`` if the unit can be built for it, else ``ValueError`` naming the field, its value
-    and the legal range: the form must have RTL (``RTL_FORMS``), and the quadratic's coefficient
-    word must hold a up to 786.44 (coef_bits >= 10; ``FixedConfig`` alone allows 4)."""
+    and the legal range: the form must have RTL (``RTL_FORMS``), the quadratic's coefficient
+    word must hold a up to 786.44 (coef_bits >= 10; ``FixedConfig`` alone allows 4) and the
+    cubic's r up to 1443.2 (coef_bits >= 11; ``FixedConfig`` refuses the cubic's products wider
+    than 62 bits: work_bits above 25, coef_bits + work_bits above 56)."""
     if not isinstance(cfg, FixedConfig):
         raise ValueError(f"cfg = {cfg!r} is out of range: legal is a FixedConfig")
     if cfg.form not in RTL_FORMS:
@@ -74,6 +87,8 @@ def check_unit(cfg: FixedConfig) -> FixedConfig:
         )
     if cfg.form == "quadratic":
         fx.check_width("coef_bits", cfg.coef_bits, QUADRATIC_A_INT_BITS, 32)
+    if cfg.form == "cubic":
+        fx.check_width("coef_bits", cfg.coef_bits, CUBIC_R_INT_BITS, 32)
     return cfg
 
 
@@ -170,7 +185,8 @@ def _check_which(cfg: FixedConfig, which: str) -> None:
 def rom_name(cfg: FixedConfig, which: str) -> str:
     """The image's file name: the angle table by what it holds (w = 1 - cos, shared by every
     form but log2) and its widths, ``brdf_w_a12_d20.hex``; the coefficient table by form,
-    word width and a's format, ``brdf_quadratic_coef_c18_q10.8.hex``."""
+    word width and its coefficients' formats, ``brdf_quadratic_coef_c18_q10.8.hex``,
+    ``brdf_cubic_coef_c18_q11.7_q1.17_q0.18_q0.18.hex``."""
     _check_which(cfg, which)
     if which == "angle":
         kind = "log2cos" if cfg.form == "log2" else "w"
@@ -191,8 +207,10 @@ def _coef_frac_bits(cfg: FixedConfig) -> int:
 
 def rom_layout(cfg: FixedConfig, which: str = "angle") -> rom.RomLayout:
     """The image of the angle table (2**A words of D bits; fields COS_ADDR_BITS,
-    COS_DATA_BITS, TABLE) or of the coefficient table (1000 words of coef_bits, a of n at
-    address n - 1; fields FORM, COEF_BITS, COEF_FRAC_BITS)."""
+    COS_DATA_BITS, TABLE) or of the coefficient table: the quadratic's 1000 words of coef_bits,
+    a of n at address n - 1 (fields FORM, COEF_BITS, COEF_FRAC_BITS); the cubic's 2000 words of
+    2 coef_bits (``CUBIC_COEF_WORDS``; fields FORM, COEF_BITS and each coefficient's fraction
+    bits, R_FRAC_BITS, P0_FRAC_BITS, B1_FRAC_BITS, B2_FRAC_BITS)."""
     check_unit(cfg)
     _check_which(cfg, which)
     if which == "angle":
@@ -202,6 +220,13 @@ def rom_layout(cfg: FixedConfig, which: str = "angle") -> rom.RomLayout:
             ("TABLE", rom.TABLE_NAMES.index("log2cos" if cfg.form == "log2" else "w")),
         )
         return rom.RomLayout("brdf_angle", 1 << cfg.cos_addr_bits, cfg.cos_data_bits, config)
+    if cfg.form == "cubic":
+        fracs = tuple(
+            (f"{name.upper()}_FRAC_BITS", q.frac_bits) for name, q in cfg.coef_formats.items()
+        )
+        config = (("FORM", FORMS.index(cfg.form)), ("COEF_BITS", cfg.coef_bits), *fracs)
+        depth = CUBIC_COEF_WORDS * N_MAX
+        return rom.RomLayout("brdf_cubic_coef", depth, 2 * cfg.coef_bits, config)
     config = (
         ("FORM", FORMS.index(cfg.form)),
         ("COEF_BITS", cfg.coef_bits),
@@ -211,12 +236,17 @@ def rom_layout(cfg: FixedConfig, which: str = "angle") -> rom.RomLayout:
 
 
 def rom_words(cfg: FixedConfig, which: str = "angle") -> np.ndarray:
-    """The data words of the image: ``angle_table`` or the coefficient table's one column."""
+    """The data words of the image: ``angle_table``, the quadratic's coefficient column, or
+    the cubic's coefficients two to a word (r above p0, then b1 above b2, for each n)."""
     check_unit(cfg)
     _check_which(cfg, which)
     if which == "angle":
         return angle_table(cfg)
-    return coefficient_words(cfg)[:, 0]
+    words = coefficient_words(cfg)
+    if cfg.form == "cubic":
+        pairs = (words[:, 0::2] << cfg.coef_bits) | words[:, 1::2]
+        return pairs.reshape(-1)
+    return words[:, 0]
 
 
 def rom_text(cfg: FixedConfig, which: str = "angle") -> str:
@@ -227,6 +257,15 @@ def rom_text(cfg: FixedConfig, which: str = "angle") -> str:
             f"brdf_unit angle table: w = 1 - cos(i/2^{cfg.cos_addr_bits} * pi/2) as "
             f"round(2 sin^2(x/2) 2^{cfg.cos_data_bits}), i < 2^{cfg.cos_addr_bits}\n"
             "every form but log2 reads it. Generated by model.units.brdf."
+        )
+    elif cfg.form == "cubic":
+        fmts = ", ".join(
+            f"{name} Q{q.int_bits}.{q.frac_bits}" for name, q in cfg.coef_formats.items()
+        )
+        header = (
+            f"brdf_unit coefficient table, cubic form: for n = 1..{N_MAX}, r above p0 at "
+            f"address 2 (n - 1), b1 above b2 at 2 (n - 1) + 1\n"
+            f"each unsigned, {cfg.coef_bits} bits: {fmts}. Generated by model.units.brdf."
         )
     else:
         q = next(iter(cfg.coef_formats.values()))

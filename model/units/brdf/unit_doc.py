@@ -57,7 +57,10 @@ MEANINGS = {
     "out_width": "intensity bits (saturated)",
     "cos_addr_bits": "angle-table address bits A (fraction bits of \\|zeta\\|, units of pi/2)",
     "cos_data_bits": "angle-table word bits D (w = 1 - cos, D fraction bits)",
-    "coef_bits": "coefficient word bits (the quadratic's a; unused by the cosine-quadratic)",
+    "coef_bits": (
+        "coefficient word bits (the quadratic's a, each of the cubic's r, p0, b1, b2; unused by "
+        "the cosine-quadratic)"
+    ),
     "work_bits": "fraction bits P of the form's intermediate values",
     "out_bits": "fraction bits O of the form's output word F",
 }
@@ -79,7 +82,7 @@ def parameter_ranges() -> list[ParameterRange]:
     """Each width parameter with both ends of its legal range, found by trying ``PROBE``
     (every legal set is contiguous: checked here); the default is the default configuration's.
     Z_FRAC_BITS is tried with COS_ADDR_BITS = 2 (it must be at least COS_ADDR_BITS), the
-    quadratic's COEF_BITS gets a row of its own."""
+    quadratic's and the cubic's COEF_BITS and the cubic's WORK_BITS get rows of their own."""
     default = UNIT_CONFIGS["cosine_quadratic"]
     rows = []
     for name, meaning in MEANINGS.items():
@@ -89,7 +92,13 @@ def parameter_ranges() -> list[ParameterRange]:
         if name == "cos_addr_bits":
             cases = [("cosine_quadratic", {}, "at most Z_FRAC_BITS")]
         if name == "coef_bits":
-            cases = [("cosine_quadratic", {}, "cosine_quadratic"), ("quadratic", {}, "quadratic")]
+            cases = [
+                ("cosine_quadratic", {}, "cosine_quadratic"),
+                ("quadratic", {}, "quadratic"),
+                ("cubic", {}, "cubic"),
+            ]
+        if name == "work_bits":
+            cases = [("cosine_quadratic", {}, ""), ("cubic", {}, "cubic")]
         for form, base, note in cases:
             legal = _legal(form, name, base)
             if legal != list(range(legal[0], legal[-1] + 1)):
@@ -102,12 +111,19 @@ def parameter_ranges() -> list[ParameterRange]:
 
 
 def multipliers(cfg: FixedConfig) -> list[tuple[str, int, int]]:
-    """The unit's multipliers as (what, operand bits, operand bits): the form's two and C x F."""
+    """The unit's multipliers as (what, operand bits, operand bits): the form's (two, the
+    cubic's four: b2 x tau and tau x h signed) and C x F."""
     check_unit(cfg)
     d, p = cfg.cos_data_bits, cfg.work_bits
     form = {
         "cosine_quadratic": [("7n x w", 13, d + 1), ("base x base", p + 1, p + 1)],
         "quadratic": [("a x w", cfg.coef_bits, d + 1), ("c x (1 - a w)", d + 1, p + 1)],
+        "cubic": [
+            ("r x w", cfg.coef_bits, d + 1),
+            ("b2 x tau", cfg.coef_bits + 1, p + 5),
+            ("tau x h", p + 5, p + 5),
+            ("c x max(0, P)", d + 1, p + 9),
+        ],
     }[cfg.form]
     c_width = cfg.angle.c_int_bits + cfg.angle.c_frac_bits
     return [*form, ("C x F", c_width, cfg.out_bits)]
@@ -183,7 +199,9 @@ def format_costs() -> str:
         bits = table_bits(cfg)
         tables = [f"angle 2^{cfg.cos_addr_bits} x {cfg.cos_data_bits}"]
         if "coef" in bits:
-            tables.append(f"coef {N_MAX} x {cfg.coef_bits}")
+            words = len(cfg.coefficients)
+            each = f"{words} x {cfg.coef_bits}" if words > 1 else f"{cfg.coef_bits}"
+            tables.append(f"coef {N_MAX} x {each}")
         lines.append(
             f"| brdf_unit, {form} | {len(multipliers(cfg))}: {mults} | {', '.join(tables)} | "
             f"{bits['total']} |"
