@@ -57,7 +57,7 @@ def sphere() -> raster.Raster:
     return raster.rasterise(scenefile.builtin_scene("sphere", 48, 48))
 
 
-@pytest.mark.parametrize("form", list(BRDF_METHODS))
+@pytest.mark.parametrize("form", FORMS)
 def test_the_scene_s_highlight_jobs_go_through_the_brdf_unit(sphere, form: str) -> None:
     """Each highlight job's pixels are ``unit.unit_line`` of its registers, which are the
     patent unit's (``specular.setup_lines``); the Gouraud part is (c)'s; every shader path

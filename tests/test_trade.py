@@ -132,8 +132,7 @@ def test_brdf_knob_puts_each_form_in_the_highlight():
     for form in brdf.RTL_FORMS:
         p = trade.TradePoint(brdf=form)
         cfg = p.to_pipeline_config()
-        if form in pipeline.BRDF_METHODS:  # the cubic is no demo method yet
-            assert cfg == pipeline.BRDF_METHODS[form]  # the demo's method of that form
+        assert cfg == pipeline.BRDF_METHODS[form]  # the demo's method of that form
         assert cfg.brdf == brdf.UNIT_CONFIGS[form] and cfg.brdf.angle == cfg.specular
         assert p.label == f"brdf={form}" and p.family == form
         assert hardware.unit_configs(cfg) == [

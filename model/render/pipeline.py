@@ -169,16 +169,12 @@ METHODS: dict[str, PipelineConfig] = {
     "adaptive": PipelineConfig(specular_mode="adaptive"),
     "diffuse": PipelineConfig(diffuse_mode="unit"),
 }
-BRDF_METHOD_FORMS = ("cosine_quadratic", "quadratic")
-"""The forms with RTL that are ``shading demo`` methods, (i) and (j) (the cubic has RTL but is
-not a method yet: the demo's pictures and digests hold these two)."""
 BRDF_METHODS: dict[str, PipelineConfig] = {
-    form: PipelineConfig(brdf=brdf_unit.UNIT_CONFIGS[form]) for form in BRDF_METHOD_FORMS
+    form: PipelineConfig(brdf=cfg) for form, cfg in brdf_unit.UNIT_CONFIGS.items()
 }
-"""The hybrid with the highlight through a BRDF family unit (each form of
-``BRDF_METHOD_FORMS``, its default widths) in place of the patent's specular unit: methods of
-``shading demo``.  The shading core takes the patent's unit only, so these are not among
-``METHODS``."""
+"""The hybrid with the highlight through a BRDF family unit (each form with RTL, its default
+widths) in place of the patent's specular unit: methods of ``shading demo``.  The shading core
+takes the patent's unit only, so these are not among ``METHODS``."""
 
 
 # ------------------------------------------------------------------------------------------------

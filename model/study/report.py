@@ -36,6 +36,7 @@ METHOD_LABELS: dict[str, str] = {
     "diffuse": "(h) units: diffuse through the specular unit (n = 1)",
     "cosine_quadratic": "(i) units: cosine-quadratic BRDF unit, no coefficient table",
     "quadratic": "(j) units: quadratic BRDF unit, a per n",
+    "cubic": "(k) units: cubic BRDF unit, r p0 b1 b2 per n",
 }
 FLOAT_SHADERS = {"exact": reference.exact_blinn, "phong": reference.phong}
 DEFAULT_SCENE = "teapot"
