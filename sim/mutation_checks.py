@@ -2,8 +2,13 @@
 """The checks a mutant of ``make mutants`` meets (sim/mutation.py), in order, and one run of
 one: a unit's committed vector set, then soaks of the same configuration with other seeds; the
 core's committed set as the FuseSoC sim target runs it, then at full rate, with other idles
-and stalls, and random spans.  A check's files (a soak, the random spans) are written when a
-mutant first reaches it, afresh: the generators and the model may change."""
+and stalls, and random spans; the directed runs and the highlight lines last.  A check's
+files (a soak, the random spans) are written when a mutant first reaches it, afresh: the
+generators and the model may change.
+
+Size: about 530 lines: every check is a generator of stimulus aimed at one kind of fault,
+and the list's order is the record's (a check added goes last), so they stay together.
+"""
 
 from __future__ import annotations
 
@@ -346,6 +351,12 @@ def core_checks(folder: Path) -> list[Check]:
         Check(CORE_DIRECTED, None, 0, d_spans, d_pixels, n_directed, 0, 10, 10, 9,
               writer=lambda: _write_span_files(list(directed_spans()), d_spans, d_pixels))
     )  # fmt: skip
+    h_spans = folder / "checks" / "spans_highlight.hex"
+    h_pixels = folder / "checks" / "pixels_highlight.hex"
+    checks.append(
+        Check(CORE_HIGHLIGHT, None, 0, h_spans, h_pixels, HIGHLIGHT_SPANS, 0, 10, 10, 9,
+              writer=lambda: _write_span_files(highlight_spans(), h_spans, h_pixels))
+    )  # fmt: skip
     return checks
 
 
@@ -405,6 +416,54 @@ def directed_spans(seed: int = DIRECTED_SEED + 3) -> tuple[int, ...]:
                 row["x"] = min(row["x"], (1 << fmt.x_width) - row["l"] - 1)
                 words.append(core.pack(fmt.layout(), row))
     return tuple(words)
+
+
+HIGHLIGHT_SPANS = 20_000
+CORE_HIGHLIGHT = (
+    f"{HIGHLIGHT_SPANS} highlight spans: 1 to 200 pixels inside the highlight of their n and "
+    "within pi/2 of the diffuse angle, every C in the top quarter"
+)
+
+
+def highlight_spans(count: int = HIGHLIGHT_SPANS, seed: int = DIRECTED_SEED + 4) -> list[int]:
+    """The core's highlight lines (as ``highlight_inputs`` are the specular unit's): spans of
+    1 to 200 pixels with both terms on, n random in 1..1000, the highlight angle and every
+    pixel's where cos^n is above 1/256, the diffuse angle within pi/2, the highlight C and
+    the three diffuse C in the top quarter of their range, the other fields random: a change
+    of an angle below a ROM-12 address's rounding, or of a low bit of a table word, shows
+    about once in 10^5 pixels, where random spans, mostly dark, show it almost never."""
+    import numpy as np
+
+    fmt = core.SpanFormat(CORE_CONFIG)
+    s = CORE_CONFIG.specular
+    layout = fmt.layout()
+    rng = np.random.default_rng(seed)
+    c_hi = (1 << s.c_width) - 1
+    right = 1 << s.z_frac_bits  # pi/2
+
+    def top_quarter() -> int:
+        return int(rng.integers(c_hi - c_hi // 4, c_hi + 1))
+
+    def line(edge: int, length: int) -> tuple[int, int]:
+        z0 = int(rng.integers(-edge, edge + 1))
+        step = max(1, (edge - abs(z0)) // length)
+        return z0, int(rng.integers(-step, step + 1))
+
+    words = []
+    for _ in range(count):
+        length = int(rng.integers(1, 201))
+        row = core.unpack(layout, core_run.random_spans(fmt, [length], int(
+            rng.integers(1 << 31)))[0])  # fmt: skip
+        n = int(rng.integers(1, 1001))
+        edge = int(math.acos(2.0 ** (-8.0 / n)) / (math.pi / 2) * right)
+        z0, dz = line(edge, length)
+        diff_z0, diff_dz = line(right - 1, length)
+        row.update(n=n, spec=1, diff=1, z0=z0, dz=dz, diff_z0=diff_z0, diff_dz=diff_dz,
+                   c=top_quarter())  # fmt: skip
+        for ch in range(core.CHANNELS):
+            row[f"diff_c{ch}"] = top_quarter()
+        words.append(core.pack(layout, row))
+    return words
 
 
 def passes(bench: Bench, check: Check, mutant: int, work: Path) -> bool:

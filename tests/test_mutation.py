@@ -199,3 +199,27 @@ def test_directed_spans_take_every_field_to_its_corners() -> None:
     # the diffuse accumulator at exactly -2.0 (-pi), the corner random fractions never meet
     assert any(r["diff_z0"] == -(2 << s.z_frac_bits) and r["diff"] for r in rows)
     assert all(r["x"] + r["l"] + 1 <= 1 << fmt.x_width for r in rows)
+
+
+def test_highlight_spans_stay_in_the_highlight() -> None:
+    """The core's last check (300 spans of it here): both terms on, every pixel's highlight
+    angle where cos^n is above 1/256 and its diffuse angle within pi/2, every C in the top
+    quarter of its range."""
+    import math
+
+    from model.render import core
+
+    fmt = core.SpanFormat(mutation_checks.CORE_CONFIG)
+    s = mutation_checks.CORE_CONFIG.specular
+    right = 1 << s.z_frac_bits
+    c_hi = (1 << s.c_width) - 1
+    words = mutation_checks.highlight_spans(count=300)
+    for r in (core.unpack(fmt.layout(), w) for w in words):
+        edge = math.acos(2.0 ** (-8.0 / r["n"])) / (math.pi / 2) * right
+        ends = (r["z0"], r["z0"] + r["l"] * r["dz"])
+        assert r["spec"] and r["diff"] and 1 <= r["n"] <= 1000
+        assert all(abs(z) <= edge + r["l"] for z in ends), r
+        assert all(
+            abs(z) < right + r["l"] for z in (r["diff_z0"], r["diff_z0"] + r["l"] * r["diff_dz"])
+        )
+        assert min(r["c"], *(r[f"diff_c{ch}"] for ch in range(core.CHANNELS))) >= c_hi - c_hi // 4
