@@ -29,7 +29,7 @@ data/teapot.bez:
 	scripts/fetch-teapot.sh
 
 tools:
-	@scripts/ensure-tools.sh iverilog vvp verilator
+	@scripts/ensure-tools.sh iverilog vvp verilator --optional ccache
 
 demo: setup tools
 	$(PY) -m model demo

