@@ -59,11 +59,79 @@ def run_yosys(script: str, folder: Path, log: str) -> None:
         raise RuntimeError(f"yosys {log}.ys in {folder} failed:\n{ran.stdout}{ran.stderr}")
 
 
+def _sig_chunks(spec: str) -> list[str]:
+    """The chunks of the RTLIL signal ``spec`` (a wire, a slice ``\\w [3:0]`` or ``\\w [5]``, a
+    constant ``N'bits``, or ``{ ... }`` of those), most significant first."""
+    spec = spec.strip()
+    if spec.startswith("{"):
+        spec = spec[1:-1]
+    chunks: list[str] = []
+    for token in spec.split():
+        if token.startswith("[") and chunks:
+            chunks[-1] += f" {token}"
+        else:
+            chunks.append(token)
+    return chunks
+
+
+def _const_bits(spec: str, widths: dict[str, int]) -> list[str | None]:
+    """The bits of the RTLIL signal ``spec``, least significant first: '0' or '1' where it is
+    that constant, None where it is a wire (or an undefined constant bit)."""
+    bits: list[str | None] = []
+    for chunk in reversed(_sig_chunks(spec)):
+        const = re.fullmatch(r"(\d+)'([01xz]*)", chunk)
+        if const:
+            bits += [b if b in "01" else None for b in reversed(const.group(2))]
+            continue
+        sliced = re.fullmatch(r"(\S+) \[(\d+)(?::(\d+))?\]", chunk)
+        if sliced:
+            hi, lo = int(sliced.group(2)), int(sliced.group(3) or sliced.group(2))
+            bits += [None] * (hi - lo + 1)
+        else:
+            bits += [None] * widths[chunk]
+    return bits
+
+
+def _constant_reads(block: str, params: dict, conns: dict, widths: dict[str, int]) -> dict:
+    """{port: its word as RTLIL constant} for each asynchronous read port of the ROM cell
+    ``block`` whose address is a constant (a port wired to one word, as the core's read of
+    n = 1's a): the word of the cell's ``INIT`` at that address, where it is defined."""
+    ports, abits, width = int(params["RD_PORTS"]), int(params["ABITS"]), int(params["WIDTH"])
+    clocked = params["RD_CLK_ENABLE"].split("'", 1)[1][::-1]  # port 0 first
+    size, offset = int(params["SIZE"]), int(params.get("OFFSET", "0"))
+    init = re.search(r"^\s*parameter \\INIT (?:(\d+)'([01x]+)|(\d+))$", block, re.M)
+    if init is None:
+        return {}
+    if init.group(3) is not None:  # a value of 32 bits or fewer is written as a decimal
+        words = format(int(init.group(3)), f"0{size * width}b")[::-1]
+    else:
+        words = init.group(2)[::-1]  # bit 0 first
+    addr = _const_bits(conns["RD_ADDR"], widths)
+    found = {}
+    for i in range(ports):
+        bits = addr[i * abits : (i + 1) * abits]
+        if (clocked + "0" * ports)[i] != "0" or None in bits:
+            continue
+        index = int("".join(reversed(bits)), 2) - offset  # type: ignore[arg-type]
+        if not 0 <= index < size:
+            continue
+        word = words[index * width : (index + 1) * width][::-1]
+        if "x" not in word:
+            found[i] = f"{width}'{word}"
+    return found
+
+
 def cut_roms(il: str) -> str:
     """The RTLIL ``il`` with every ROM (a ``$mem_v2`` without write ports) cut out: its read
     address (and enable) become output ports, its read data an input port.  Equivalence through
     the cut is proven for any read data, the same in both designs whenever their addresses are
-    (proven, as outputs): sound, and SAT never sees a table."""
+    (proven, as outputs): sound, and SAT never sees a table.  A read port whose address is a
+    constant (``_constant_reads``) reads its word instead: the table's word there is part of the
+    design (the core reads n = 1's a so, and its diffuse path is right only for that word)."""
+    widths = {
+        name: int(width or 1)
+        for width, name in re.findall(r"^\s*wire (?:width (\d+) )?(?:\w+ \d+ )?(\S+)$", il, re.M)
+    }
     lines = il.split("\n")
     out: list[str] = []
     extra_wires: list[str] = []
@@ -90,7 +158,16 @@ def cut_roms(il: str) -> str:
             extra_wires.append(f"  wire width {abits} output {{port}} {name}_addr")
             extra_wires.append(f"  wire width {width} input {{port}} {name}_data")
             out.append(f"  connect {name}_addr {conns['RD_ADDR']}")
-            out.append(f"  connect {conns['RD_DATA']} {name}_data")
+            fixed = _constant_reads("\n".join(block), params, conns, widths)
+            if fixed:
+                step = int(params["WIDTH"])
+                parts = [
+                    fixed.get(p, f"{name}_data [{(p + 1) * step - 1}:{p * step}]")
+                    for p in reversed(range(ports))
+                ]
+                out.append(f"  connect {conns['RD_DATA']} {{ {' '.join(parts)} }}")
+            else:
+                out.append(f"  connect {conns['RD_DATA']} {name}_data")
             if not re.fullmatch(r"\d+'1+", conns["RD_EN"]):
                 extra_wires.append(f"  wire width {ports} output {{port}} {name}_en")
                 out.append(f"  connect {name}_en {conns['RD_EN']}")

@@ -223,3 +223,23 @@ def test_highlight_spans_stay_in_the_highlight() -> None:
             abs(z) < right + r["l"] for z in (r["diff_z0"], r["diff_z0"] + r["l"] * r["diff_dz"])
         )
         assert min(r["c"], *(r[f"diff_c{ch}"] for ch in range(core.CHANNELS))) >= c_hi - c_hi // 4
+
+
+def test_a_rom_port_at_a_constant_address_reads_its_word(tmp_path: Path) -> None:
+    """``cut_roms`` cuts every read port, and one whose address is a constant reads the
+    table's word there (the core's read of n = 1's a) where the others read the cut's input:
+    the word is what a proof of the diffuse path may rely on, and no other word is."""
+    (tmp_path / "rom.v").write_text(
+        "module rom (input wire [1:0] addr, output wire [7:0] q, output wire [7:0] q0);\n"
+        "reg [7:0] mem [0:3];\n"
+        "initial begin mem[0] = 8'h5a; mem[1] = 8'h01; mem[2] = 8'h02; mem[3] = 8'h03; end\n"
+        "assign q = mem[addr];\nassign q0 = mem[2'd0];\nendmodule\n"
+    )
+    mutation_proof.run_yosys(
+        "read_verilog rom.v\nprep -top rom\nmemory_collect\nwrite_rtlil rom.il\n", tmp_path, "rom"
+    )
+    cut = mutation_proof.cut_roms((tmp_path / "rom.il").read_text())
+    assert "$mem_v2" not in cut
+    (data,) = [ln for ln in cut.splitlines() if "connect" in ln and "mutation_rom0_data" in ln]
+    # RD_DATA is { q0 q } (port 1, at address 0, then port 0): q0 the word 0x5a, q the input
+    assert data.endswith("{ \\q0 \\q } { 8'01011010 \\mutation_rom0_data [7:0] }"), data
