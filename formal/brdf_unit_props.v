@@ -13,11 +13,11 @@
  *   f_job_len, f_job_nerr   the running line's l and n error (the values held *before* the
  *                       start cycle's writes);
  *   f_left              busy cycles still to come: FILL + l at an accepted start, FILL = 12
- *                       (cosine-quadratic), 13 (quadratic) or 20 (cubic)
+ *                       (cosine-quadratic), 13 (quadratic), 20 (cubic) or 14 (log2)
  *                       (model.units.brdf.cycles);
  *   f_valid, f_nerr_out the expected valid (offsets FILL..FILL+l after the start edge) and
  *                       n_err.
- * The job's script removes both tables (their read data free in every cycle) and Yosys removes
+ * The job's script removes every table (their read data free in every cycle) and Yosys removes
  * the data path, which no property here observes: the protocol holds whatever the table words.
  * One labelled assert per property (busy_exact, ...), numbered by the P_* localparams.
  * CHECK = 0: every assert; n: only number n (the deliberate-error runs); 99: none (covers).
@@ -45,8 +45,11 @@ module brdf_unit_formal #(
     parameter COEF_BITS = 18,
     parameter WORK_BITS = 24,
     parameter OUT_BITS = 16,
+    parameter LOG_ADDR_BITS = 10,
+    parameter LOG_DATA_BITS = 16,
     parameter ANGLE_ROM_FILE = "angle.hex",
     parameter COEF_ROM_FILE = "coef.hex",
+    parameter LOG_ROM_FILE = "log2.hex",
     parameter RESET_ALL = 0,
     // unused: the protocol jobs observe no data output (model.hw.formal sets it for every unit)
     parameter ARITH = 0,
@@ -68,14 +71,17 @@ module brdf_unit_formal #(
 );
 
 // model.units.brdf.fill_latency: 7 front stages + the form's 5 (cosine-quadratic), 6
-// (quadratic) or 13 (cubic)
+// (quadratic), 13 (cubic) or 7 (log2)
 localparam [8*16-1:0] FORM_QUADRATIC = "quadratic";
 localparam [8*16-1:0] FORM_CUBIC = "cubic";
+localparam [8*16-1:0] FORM_LOG2 = "log2";
 localparam FILL_COSINE_QUADRATIC = 12;
 localparam FILL_QUADRATIC = 13;
 localparam FILL_CUBIC = 20;
+localparam FILL_LOG2 = 14;
 localparam FILL = (FORM == FORM_QUADRATIC) ? FILL_QUADRATIC
-                : (FORM == FORM_CUBIC) ? FILL_CUBIC : FILL_COSINE_QUADRATIC;
+                : (FORM == FORM_CUBIC) ? FILL_CUBIC
+                : (FORM == FORM_LOG2) ? FILL_LOG2 : FILL_COSINE_QUADRATIC;
 localparam LAST_STAGE = FILL - 1;
 localparam L_WIDTH = LEN_WIDTH + 2;  // f_left: up to FILL + 2^LEN_WIDTH - 1 (LEN_WIDTH >= 3)
 
@@ -104,8 +110,11 @@ brdf_unit #(
     .COEF_BITS(COEF_BITS),
     .WORK_BITS(WORK_BITS),
     .OUT_BITS(OUT_BITS),
+    .LOG_ADDR_BITS(LOG_ADDR_BITS),
+    .LOG_DATA_BITS(LOG_DATA_BITS),
     .ANGLE_ROM_FILE(ANGLE_ROM_FILE),
     .COEF_ROM_FILE(COEF_ROM_FILE),
+    .LOG_ROM_FILE(LOG_ROM_FILE),
     .RESET_ALL(RESET_ALL)
 ) dut (
     .clk(clk),

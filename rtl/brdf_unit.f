@@ -9,6 +9,7 @@ brdf_unit.v
 brdf_cosine_quadratic.v
 brdf_quadratic.v
 brdf_cubic.v
+brdf_log2.v
 brdf_mul.v
 brdf_round.v
 shading_rom.v

@@ -4,8 +4,9 @@
  * pixel along a scan line, zeta(0) = z0, zeta(i) = zeta(i-1) + dz, for the l + 1 pixels of a
  * line of l intervals, F one of the thesis's approximations of cos^n chosen by FORM
  * ("cosine_quadratic": (1 - (7n/16)(1 - cos))^2, "quadratic": a cos^2 + (1 - a) cos, "cubic":
- * c P(c), P a cubic about the match point in tau = 1 - r w).  Every result equals
- * model.units.brdf.unit_line() bit for bit.
+ * c P(c), P a cubic about the match point in tau = 1 - r w, "log2": 2^(n log2 cos) as
+ * 1 - log2(1 + n (-log2 cos)) / 2).  Every result equals model.units.brdf.unit_line() bit for
+ * bit.
  *
  * Formats (model/units/brdf/, FixedConfig and its angle SpecularConfig):
  *   c_in   unsigned Q(C_INT_BITS).(C_FRAC_BITS), output LSBs
@@ -18,17 +19,19 @@
  * interval counter, the accumulator of ACC_WIDTH bits, which never wraps, and the control),
  * |zeta|, the angle-table address (|zeta| rounded to COS_ADDR_BITS fraction bits of pi/2, add
  * half, slice; an address of 2^COS_ADDR_BITS or more is pi/2 or beyond and reads as
- * w = 2^COS_DATA_BITS, cos = 0), the angle table (w = 1 - cos, synchronous read), for the
- * quadratic and cubic forms the coefficient table (a, or r p0 b1 b2, per n, read when n is
- * written, like ROM 9), the form's datapath (rtl/brdf_<form>.v: the output word F in OUT_BITS
- * fraction bits), then C * F rounded to the output LSB and saturated (as multiplier 13 is).
+ * w = 2^COS_DATA_BITS, cos = 0), the angle table (w = 1 - cos, synchronous read; the log2
+ * form's holds -log2 cos), for the quadratic and cubic forms the coefficient table (a, or
+ * r p0 b1 b2, per n, read when n is written, like ROM 9), for the log2 form its second table
+ * (log2(1 + f), read in its pipeline), the form's datapath (rtl/brdf_<form>.v: the output word
+ * F in OUT_BITS fraction bits), then C * F rounded to the output LSB and saturated (as
+ * multiplier 13 is).
  *
  * Pipeline (one pixel per clock, 7 + FORM_LATENCY stages): S0 accumulator, S1 |zeta| without
  * its carry (sign, one's complement, "too big" flag), S2 |zeta| saturated below 2 (pi: every
  * clamped value still reads pi/2 or more), S3 the rounded address, S4 the angle-table read and
  * the overflow flag, S5 w (the overflow gate on the registered table word), then the form's
- * stages (5 for the cosine-quadratic, 6 for the quadratic, 13 for the cubic: each wide product
- * in two, rtl/brdf_mul.v), then C * F (F gated to 0 for an n outside 1..1000) and rounding +
+ * stages (5 for the cosine-quadratic, 6 for the quadratic, 7 for the log2, 13 for the cubic:
+ * each wide product in two, rtl/brdf_mul.v), then C * F (F gated to 0 for an n outside 1..1000) and rounding +
  * saturation -> output.  After the edge that accepts start, busy is high for F + l cycles and
  * valid is high in cycles F .. F + l, F = 7 + FORM_LATENCY (the last one together with busy =
  * 0, when a new start is already accepted): model.units.brdf.cycles and valid_offsets.
@@ -36,7 +39,7 @@
  * Reset (RESET_ALL): rst_n always resets the control state, the flags and the operand
  * registers; RESET_ALL = 1 also resets the data path.  The table read registers are never
  * reset (they must map onto block RAM); see "Tables" at the end for why none needs it.
- * ROM images: ANGLE_ROM_FILE and COEF_ROM_FILE default to files in `SHADING_ROM_DIR ("rom"
+ * ROM images: ANGLE_ROM_FILE, COEF_ROM_FILE and LOG_ROM_FILE default to files in `SHADING_ROM_DIR ("rom"
  * unless defined on the command line); the Python flows pass absolute paths instead.
  *
  * Protocol (docs/architecture.md, "The protocol every unit follows"): operands are sampled
@@ -47,12 +50,13 @@
  * Checks: a parameter set model.units.brdf refuses (FixedConfig, and check_unit: the forms
  * with RTL, the quadratic's and the cubic's coefficient width, the cubic's product widths) is
  * refused at elaboration (an instance of a module that does not exist, named after the rule,
- * e.g. brdf_unit_PARAMETER_ERROR_FORM_has_no_RTL_yet).  In simulation both table images are checked
+ * e.g. brdf_unit_PARAMETER_ERROR_FORM_has_no_RTL_yet).  In simulation every table image is checked
  * at time 0 by the ROM module (rtl/shading_rom.v): a missing, short, malformed or
  * wrong-configuration file ends the run with a message and a non-zero exit status.
  *
  * Sources: this file, rtl/brdf_cosine_quadratic.v, rtl/brdf_quadratic.v, rtl/brdf_cubic.v,
- * rtl/brdf_mul.v, rtl/brdf_round.v and rtl/shading_rom.v (rtl/brdf_unit.f lists them).
+ * rtl/brdf_log2.v, rtl/brdf_mul.v, rtl/brdf_round.v and rtl/shading_rom.v (rtl/brdf_unit.f
+ * lists them).
  */
 
 `resetall
@@ -68,7 +72,7 @@
 `endif
 
 module brdf_unit #(
-    // The form: "cosine_quadratic", "quadratic" or "cubic" ("piecewise", "log2": no RTL yet)
+    // The form: "cosine_quadratic", "quadratic", "cubic" or "log2" ("piecewise": no RTL yet)
     parameter [8*16-1:0] FORM = "cosine_quadratic",
     // C register integer bits (output LSBs), 1..16
     parameter C_INT_BITS = 8,
@@ -84,7 +88,7 @@ module brdf_unit #(
     parameter OUT_WIDTH = 8,
     // Angle-table address bits A (fraction bits of |zeta|, units of pi/2), 2..min(16, Z_FRAC_BITS)
     parameter COS_ADDR_BITS = 12,
-    // Angle-table word bits D (w = 1 - cos, D fraction bits), 4..24
+    // Angle-table word bits D (w = 1 - cos, D fraction bits; the log2 form: -log2 cos, D - 2), 4..24
     parameter COS_DATA_BITS = 20,
     // Coefficient word bits, 4..32 (the quadratic form: 10..32, a up to 786.44 needs 10; the
     // cubic: 11..32, r up to 1443.2 needs 11, and at most 56 - WORK_BITS)
@@ -93,10 +97,16 @@ module brdf_unit #(
     parameter WORK_BITS = 24,
     // Fraction bits O of the form's output word, 1..24
     parameter OUT_BITS = 16,
+    // The log2 form's second table: address bits E (f in [0, 1) rounded to E bits), 2..16
+    parameter LOG_ADDR_BITS = 10,
+    // The log2 form's second table: word bits L (log2(1 + f), L fraction bits), 4..24
+    parameter LOG_DATA_BITS = 16,
     // $readmemh image of the angle table (w = 1 - cos), by model.units.brdf (make roms)
     parameter ANGLE_ROM_FILE = {`SHADING_ROM_DIR, "/brdf_w_a12_d20.hex"},
     // $readmemh image of the coefficient table (quadratic and cubic forms), by model.units.brdf
     parameter COEF_ROM_FILE = {`SHADING_ROM_DIR, "/brdf_quadratic_coef_c18_q10.8.hex"},
+    // $readmemh image of the log2 form's second table (log2(1 + f)), by model.units.brdf
+    parameter LOG_ROM_FILE = {`SHADING_ROM_DIR, "/brdf_log2_a10_d16.hex"},
     // 0: rst_n resets the control state and the operand registers only; 1: also every
     // data-path register (the table read registers never: they must map onto block RAM)
     parameter RESET_ALL = 0
@@ -152,8 +162,9 @@ localparam [8*16-1:0] FORM_LOG2 = "log2";
 localparam IS_COSINE_QUADRATIC = (FORM == FORM_COSINE_QUADRATIC);
 localparam IS_QUADRATIC = (FORM == FORM_QUADRATIC);
 localparam IS_CUBIC = (FORM == FORM_CUBIC);
+localparam IS_LOG2 = (FORM == FORM_LOG2);
 localparam FORM_KNOWN = IS_COSINE_QUADRATIC || IS_QUADRATIC || IS_CUBIC
-                        || FORM == FORM_PIECEWISE || FORM == FORM_LOG2;
+                        || FORM == FORM_PIECEWISE || IS_LOG2;
 // The quadratic's a (786.44 at n = 1000) needs 10 integer bits (model QUADRATIC_A_INT_BITS;
 // the coefficient image's COEF_FRAC_BITS field carries the model's value)
 localparam QUADRATIC_A_INT_BITS = 10;
@@ -162,7 +173,8 @@ localparam QUADRATIC_A_INT_BITS = 10;
 localparam CUBIC_R_INT_BITS = 11;
 
 localparam BAD_FORM = !FORM_KNOWN;
-localparam BAD_FORM_RTL = FORM_KNOWN && !IS_COSINE_QUADRATIC && !IS_QUADRATIC && !IS_CUBIC;
+localparam BAD_FORM_RTL = FORM_KNOWN && !IS_COSINE_QUADRATIC && !IS_QUADRATIC && !IS_CUBIC
+                          && !IS_LOG2;
 localparam BAD_C_INT_BITS = (C_INT_BITS < 1 || C_INT_BITS > 16);
 localparam BAD_C_FRAC_BITS = (C_FRAC_BITS < 0 || C_FRAC_BITS > 16);
 localparam BAD_Z_INT_BITS = (Z_INT_BITS < 3 || Z_INT_BITS > 8);
@@ -182,6 +194,9 @@ localparam BAD_WORK_BITS_CUBIC = !BAD_WORK_BITS && IS_CUBIC && WORK_BITS > 25;
 localparam BAD_COEF_WORK_CUBIC = !BAD_COEF_BITS && !BAD_WORK_BITS && !BAD_WORK_BITS_CUBIC
                                  && IS_CUBIC && COEF_BITS + WORK_BITS > 56;
 localparam BAD_OUT_BITS = (OUT_BITS < 1 || OUT_BITS > 24);
+// The log2 table's widths are checked for every form, as the model's FixedConfig checks them
+localparam BAD_LOG_ADDR_BITS = (LOG_ADDR_BITS < 2 || LOG_ADDR_BITS > 16);
+localparam BAD_LOG_DATA_BITS = (LOG_DATA_BITS < 4 || LOG_DATA_BITS > 24);
 
 generate
     if (BAD_FORM) begin : g_check_form
@@ -240,16 +255,23 @@ generate
     if (BAD_OUT_BITS) begin : g_check_out_bits
         brdf_unit_PARAMETER_ERROR_OUT_BITS_must_be_1_to_24 u_error ();
     end
+    if (BAD_LOG_ADDR_BITS) begin : g_check_log_addr_bits
+        brdf_unit_PARAMETER_ERROR_LOG_ADDR_BITS_must_be_2_to_16 u_error ();
+    end
+    if (BAD_LOG_DATA_BITS) begin : g_check_log_data_bits
+        brdf_unit_PARAMETER_ERROR_LOG_DATA_BITS_must_be_4_to_24 u_error ();
+    end
     if (RESET_ALL != 0 && RESET_ALL != 1) begin : g_check_reset_all
         brdf_unit_PARAMETER_ERROR_RESET_ALL_must_be_0_or_1 u_error ();
     end
 endgenerate
 
 // What the form reads of n (register 4's form part): the quadratic's coefficient word a, the
-// cubic's four {r, p0, b1, b2}, the cosine-quadratic's 7n (13 bits: n up to 1023)
-localparam K_WIDTH = IS_QUADRATIC ? COEF_BITS : IS_CUBIC ? 4 * COEF_BITS : 13;
+// cubic's four {r, p0, b1, b2}, the log2's n itself (10 bits), the cosine-quadratic's 7n (13
+// bits: n up to 1023)
+localparam K_WIDTH = IS_QUADRATIC ? COEF_BITS : IS_CUBIC ? 4 * COEF_BITS : IS_LOG2 ? N_WIDTH : 13;
 // The form's pipeline stages (model.units.brdf.FORM_LATENCY)
-localparam FORM_LATENCY = IS_QUADRATIC ? 6 : IS_CUBIC ? 13 : 5;
+localparam FORM_LATENCY = IS_QUADRATIC ? 6 : IS_CUBIC ? 13 : IS_LOG2 ? 7 : 5;
 localparam LAST_STAGE = 6 + FORM_LATENCY;
 
 // ---------------------------------------------------------------- operand registers
@@ -507,6 +529,57 @@ generate
             .k(k_run_reg),
             .y(form_y)
         );
+    end else if (IS_LOG2) begin : g_log2
+        // The datapath and its second table (the log2 device of fig. 9b): log2(1 + f) for
+        // f = j 2^-LOG_ADDR_BITS, read every cycle at the address of the pixel in the form's
+        // third stage; its word registered twice (READ_REGS = 2: the block RAM's register,
+        // then one in the fabric, the form's fourth and fifth stages), so that the form's
+        // subtraction does not follow the block RAM's slow output in the same clock (in one:
+        // 94.7 MHz on the ECP5-25F); see "Tables" below
+        wire [LOG_ADDR_BITS-1:0] log_addr;
+        wire [LOG_DATA_BITS-1:0] log_q;
+        // verilator lint_off UNUSEDSIGNAL
+        wire [LOG_DATA_BITS-1:0] log_unused_b;  // one read port
+        // verilator lint_on UNUSEDSIGNAL
+
+        brdf_log2 #(
+            .COS_DATA_BITS(COS_DATA_BITS),
+            .LOG_ADDR_BITS(LOG_ADDR_BITS),
+            .LOG_DATA_BITS(LOG_DATA_BITS),
+            .OUT_BITS(OUT_BITS),
+            .RESET_ALL(RESET_ALL)
+        ) u_form (
+            .clk(clk),
+            .rst_n(rst_n),
+            .w(w_reg),
+            .k(k_run_reg),
+            .log_addr(log_addr),
+            .log_q(log_q),
+            .y(form_y)
+        );
+
+        shading_rom #(
+            .WIDTH(LOG_DATA_BITS),
+            .DEPTH(2 ** LOG_ADDR_BITS),
+            .ADDR_BITS(LOG_ADDR_BITS),
+            .PORTS(1),
+            .READ_REGS(2),
+            .BANK_BITS(LOG_ADDR_BITS),  // one bank
+            .FILE(LOG_ROM_FILE),
+            .NAME("LOG_ROM_FILE"),
+            .MAGIC("BRDL"),
+            .NUM_FIELDS(2),
+            .FIELD_0(LOG_ADDR_BITS), .FIELD_1(LOG_DATA_BITS),
+            .FIELD_NAMES({"LOG_ADDR_BITS   ", "LOG_DATA_BITS   ", {(8*16*10){1'b0}}})
+        ) u_log_rom (
+            .clk(clk),
+            .rd_en_a(1'b1),
+            .addr_a(log_addr),
+            .q_a(log_q),
+            .rd_en_b(1'b0),
+            .addr_b({LOG_ADDR_BITS{1'b0}}),
+            .q_b(log_unused_b)
+        );
     end else if (IS_COSINE_QUADRATIC) begin : g_cosine_quadratic
         brdf_cosine_quadratic #(
             .COS_DATA_BITS(COS_DATA_BITS),
@@ -530,19 +603,21 @@ generate
 endgenerate
 
 // ---------------------------------------------------------------- tables
-// The angle table (stage S4, every cycle) and, for the quadratic and cubic forms, the
-// coefficient table (read with n while idle, like the specular unit's ROM 9): instances of the
-// ROM module (rtl/shading_rom.v), which checks each image at time 0 in simulation: magic
-// ("BRDA", "BRDC", the cubic's "BRD3"), depth, width, the parameters the contents depend on
-// (the angle table: COS_ADDR_BITS, COS_DATA_BITS, TABLE = 0 (w = 1 - cos); the coefficient
-// table: FORM as its index in model.units.brdf.FORMS, COEF_BITS, and COEF_FRAC_BITS, or the
-// cubic's R_FRAC_BITS, P0_FRAC_BITS, B1_FRAC_BITS, B2_FRAC_BITS), the checksum of the data words
-// and the end mark; a bad image prints the file, the field, what it holds and what this
-// instance needs, and ends the run with a non-zero exit status.  Their read registers are
-// never reset, in either RESET_ALL mode, so that they map onto block RAM.  Neither needs one:
-// the angle table's is rewritten every cycle from the address of the pixel in stage S3; after
-// reset nerr_reg = 1 (n = 0), so until n is written every pixel's F is gated to 0 before x C
-// (an undefined coefficient word cannot reach a result).
+// The angle table (stage S4, every cycle), for the quadratic and cubic forms the coefficient
+// table (read with n while idle, like the specular unit's ROM 9) and for the log2 form its
+// second table (in g_log2 above, every cycle): instances of the ROM module (rtl/shading_rom.v),
+// which checks each image at time 0 in simulation: magic ("BRDA", "BRDC", the cubic's "BRD3",
+// the log2 table's "BRDL"), depth, width, the parameters the contents depend on (the angle
+// table: COS_ADDR_BITS, COS_DATA_BITS, TABLE = 0 (w = 1 - cos) or, for the log2 form, 1
+// (-log2 cos); the coefficient table: FORM as its index in model.units.brdf.FORMS, COEF_BITS,
+// and COEF_FRAC_BITS, or the cubic's R_FRAC_BITS, P0_FRAC_BITS, B1_FRAC_BITS, B2_FRAC_BITS; the
+// log2 table: LOG_ADDR_BITS, LOG_DATA_BITS), the checksum of the data words and the end mark; a
+// bad image prints the file, the field, what it holds and what this instance needs, and ends
+// the run with a non-zero exit status.  Their read registers are never reset, in either
+// RESET_ALL mode, so that they map onto block RAM.  None needs one: the angle table's and the
+// log2 table's (both of its registers) are rewritten every cycle from the address of the pixel in the stage before;
+// after reset nerr_reg = 1 (n = 0), so until n is written every pixel's F is gated to 0 before
+// x C (an undefined coefficient word cannot reach a result).
 // verilator lint_off UNUSEDSIGNAL
 wire [COS_DATA_BITS-1:0] angle_unused_b;  // one read port
 // verilator lint_on UNUSEDSIGNAL
@@ -556,7 +631,7 @@ shading_rom #(
     .NAME("ANGLE_ROM_FILE"),
     .MAGIC("BRDA"),
     .NUM_FIELDS(3),
-    .FIELD_0(COS_ADDR_BITS), .FIELD_1(COS_DATA_BITS), .FIELD_2(0),
+    .FIELD_0(COS_ADDR_BITS), .FIELD_1(COS_DATA_BITS), .FIELD_2(IS_LOG2 ? 1 : 0),
     .FIELD_NAMES({"COS_ADDR_BITS   ", "COS_DATA_BITS   ", "TABLE           ",
                   {(8*16*9){1'b0}}})
 ) u_angle_rom (
@@ -627,6 +702,18 @@ generate
             .q_b(coef_lo)
         );
         assign k_word = {coef_hi, coef_lo};
+    end else if (IS_LOG2) begin : g_n_word
+        // The log2 form's factor is n itself (10 bits), registered when n is written
+        reg [N_WIDTH-1:0] k_reg;
+        always @(posedge clk) begin
+            if (!busy_reg && n_we) begin
+                k_reg <= n_in;
+            end
+            if (!rst_n) begin
+                k_reg <= {N_WIDTH{1'b0}};
+            end
+        end
+        assign k_word = k_reg;
     end else begin : g_seven_n
         // The cosine-quadratic's m = 7n/16: 7n (8n - n) registered when n is written
         reg [12:0] k_reg;

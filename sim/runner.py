@@ -199,14 +199,17 @@ def env_seed(variable: str) -> int | None:
         ) from None
 
 
-def bench_sources(toplevel: str, rtl: Path | None = None) -> list[Path]:
+def bench_sources(
+    toplevel: str, rtl: Path | None = None, replaces: str | None = None
+) -> list[Path]:
     """The Verilog sources of ``toplevel``: what ``rtl/<toplevel>.f`` lists, in order (a top
     may span files, ``rtl/shading_core.f``); ``rtl`` (a saved mutant) replaces the listed
-    ``<toplevel>.v``.  A list that does not name ``<toplevel>.v`` with ``rtl`` given raises."""
+    ``replaces`` (default ``<toplevel>.v``; e.g. ``brdf_log2.v``, a mutant of a module the top
+    instantiates).  A list that does not name that file with ``rtl`` given raises."""
     sources = source_list(toplevel, RTL_DIR)
     if rtl is None:
         return sources
-    top_file = f"{toplevel}.v"
+    top_file = replaces or f"{toplevel}.v"
     if not any(path.name == top_file for path in sources):
         raise ValueError(
             f"rtl = {str(rtl)!r} cannot replace {top_file}: rtl/{toplevel}.f does not list it"
@@ -226,6 +229,7 @@ def run_bench(
     rtl: Path | None = None,
     expect_failure: bool = False,
     reset_all: int | None = None,
+    replaces: str | None = None,
 ) -> list[dict]:
     """Build the sources ``rtl/<toplevel>.f`` lists (``bench_sources``) with ``parameters`` and
     run ``sim/<bench_module>.py``.
@@ -234,7 +238,8 @@ def run_bench(
     quoted (``"..."``) here for both simulators: cocotb passes each as one argument,
     ``-P<top>.NAME="..."`` to Icarus, ``-GNAME="..."`` to Verilator.  Returns the summary
     records the bench's monitors wrote.
-    ``rtl`` replaces the listed ``rtl/<toplevel>.v`` (a saved mutant); with ``expect_failure``
+    ``rtl`` replaces the listed ``rtl/<toplevel>.v``, or the listed file ``replaces`` names
+    (a saved mutant); with ``expect_failure``
     the bench must fail (the records are returned then, with the failed tests' errors counted).
     ``reset_all`` (0 or 1) sets the RESET_ALL parameter; None keeps the one in ``parameters``
     (the RTL's default, 0, if it has none).
@@ -283,7 +288,7 @@ def run_bench(
     results_xml.unlink(missing_ok=True)
     with environment({**verilator_env(), **object_cache()} if sim == "verilator" else {}):
         runner.build(
-            sources=bench_sources(toplevel, rtl),
+            sources=bench_sources(toplevel, rtl, replaces),
             hdl_toplevel=toplevel,
             parameters=hdl_params,
             build_dir=build_dir,

@@ -45,13 +45,15 @@ class BrdfTB(UnitTB):
     # ------------------------------------------------------------------ operand generators
     def span(self, n: int) -> float:
         """The angle (units of pi/2) where the form's highlight ends: the epicentre of cos^n,
-        or the cosine-quadratic's zero arccos(1 - 16/(7n)) if that comes first; 1 for an n the
-        unit refuses."""
+        or the cosine-quadratic's zero arccos(1 - 16/(7n)), or the log2 form's arccos(2^(-3/n))
+        (n (-log2 cos) = 3), if that comes later; 1 for an n the unit refuses."""
         if not 1 <= n <= specular.N_MAX:
             return 1.0
         end = specular.epicentre(n)
         if self.cfg.form == "cosine_quadratic" and 7 * n > 8:
             end = max(end, math.acos(1.0 - 16.0 / (7.0 * n)))
+        if self.cfg.form == "log2":
+            end = max(end, math.acos(2.0 ** (-3.0 / n)))
         return min(1.0, end / (math.pi / 2))
 
     def z_reg(self, units: float) -> int:
@@ -238,7 +240,8 @@ async def test_n_register_read_on_the_n_write(dut):
     """What the unit keeps of n is taken when n is written: right after an idle-cycle n write
     the coefficient table's read register holds the model's word of n (address n - 1; word 0
     for an n the unit refuses; the cubic's two words of n, 2 (n - 1) and 2 (n - 1) + 1, on the
-    ROM's two ports), or the cosine-quadratic's register 7n; nerr_reg the n error."""
+    ROM's two ports), or the cosine-quadratic's register 7n, the log2 form's register n;
+    nerr_reg the n error."""
     tb = BrdfTB(dut)
     await tb.reset()
     cfg = tb.cfg
@@ -255,6 +258,8 @@ async def test_n_register_read_on_the_n_write(dut):
         elif words is not None:
             want = int(words[i])
             got = dut.g_coef_rom.u_coef_rom.q_a_reg.value.to_unsigned()
+        elif cfg.form == "log2":
+            want, got = n, dut.g_n_word.k_reg.value.to_unsigned()
         else:
             want, got = 7 * n, dut.g_seven_n.k_reg.value.to_unsigned()
         assert got == want, (n, got, want)

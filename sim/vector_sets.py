@@ -68,6 +68,7 @@ SETS: dict[str, tuple[units.UnitConfig, int]] = {
     "brdf_cosine_quadratic": (brdf.UNIT_CONFIGS["cosine_quadratic"], DEFAULT_CYCLES),
     "brdf_quadratic": (brdf.UNIT_CONFIGS["quadratic"], DEFAULT_CYCLES),
     "brdf_cubic": (brdf.UNIT_CONFIGS["cubic"], DEFAULT_CYCLES),
+    "brdf_log2": (brdf.UNIT_CONFIGS["log2"], DEFAULT_CYCLES),
 }
 
 

@@ -47,6 +47,11 @@ ODD = {
         "cubic", cos_addr_bits=8, cos_data_bits=6, coef_bits=11, work_bits=16, out_bits=24,
         angle=ODD_ANGLE,
     ),
+    # f rounded from F + 1 = 5 fraction bits to 8 (shift -3), lv from 9 to 20 (shift -11)
+    "log2": FixedConfig(
+        "log2", cos_addr_bits=8, cos_data_bits=6, log_addr_bits=8, log_data_bits=8,
+        out_bits=20, angle=ODD_ANGLE,
+    ),
 }  # fmt: skip
 
 
@@ -62,7 +67,7 @@ def reference_line(c: int, dz: int, z0: int, n: int, length: int, cfg: FixedConf
     if not 1 <= n <= specular.N_MAX:
         return [0] * (length + 1), 1
     d, p, o = cfg.cos_data_bits, cfg.work_bits, cfg.out_bits
-    angle, coef = tables
+    angle, coef, logt = tables
     out = []
     for i in range(length + 1):
         addr = _round(abs(z0 + i * dz), cfg.addr_shift)
@@ -70,6 +75,17 @@ def reference_line(c: int, dz: int, z0: int, n: int, length: int, cfg: FixedConf
         if cfg.form == "cosine_quadratic":
             base = max(0, (1 << p) - _round(7 * n * w, 4 + d - p))
             y = _round(base * base, 2 * p - o)
+        elif cfg.form == "log2":
+            # as rtl/brdf_log2.v: lc = -log2 cos (2^D - 1 for the front's 2^D), x = n lc with
+            # F = D - 2 fraction bits, f with F + 1 bits in either octave, one rounding to E
+            f_bits, e, bits = d - 2, cfg.log_addr_bits, cfg.log_data_bits
+            x = n * min(w, (1 << d) - 1)
+            octave = int(x >= 1 << f_bits)
+            v = x - (1 << f_bits) if octave else 2 * x
+            j = _round(v, f_bits + 1 - e)
+            octave, j = octave + (j >> e), j & ((1 << e) - 1)
+            lv = max(0, ((2 - octave) << bits) - logt[j])
+            y = 0 if x >= 3 << f_bits else _round(lv, bits + 1 - o)
         elif cfg.form == "cubic":
             # the image holds {r, p0} at 2 (n - 1), {b1, b2} at 2 (n - 1) + 1
             bits, mask = cfg.coef_bits, (1 << cfg.coef_bits) - 1
@@ -90,10 +106,11 @@ def reference_line(c: int, dz: int, z0: int, n: int, length: int, cfg: FixedConf
 
 
 def _tables(cfg: FixedConfig, folder: Path | None = None):
-    """The angle and coefficient words, read back from the images (committed ones, or written
-    to ``folder`` for an uncommitted configuration)."""
+    """The angle, coefficient and log2 table words, read back from the images (committed ones,
+    or written to ``folder`` for an uncommitted configuration; None for a table the form does
+    not have)."""
     out = []
-    for which in ("angle", "coef"):
+    for which in ("angle", "coef", "log2"):
         if which not in brdf.rom_kinds(cfg):
             out.append(None)
             continue
@@ -182,8 +199,9 @@ def test_bad_operands_name_the_operand(args, message: str) -> None:
 def test_bad_configurations_name_the_field() -> None:
     """A form without RTL, the quadratic's coefficient word too narrow for a = 786.44 and the
     cubic's for r = 1443.2 (the fixed-point model alone takes coef_bits from 4), a width
-    FixedConfig refuses (the cubic's products within 62 bits)."""
-    for form in ("piecewise", "log2"):
+    FixedConfig refuses (the cubic's products within 62 bits), a table the form does not
+    have."""
+    for form in ("piecewise",):
         with pytest.raises(
             ValueError, match=f"form = '{form}' is out of range: the forms with RTL"
         ):
@@ -211,6 +229,14 @@ def test_bad_configurations_name_the_field() -> None:
         FixedConfig("quadratic", work_bits=29)
     with pytest.raises(ValueError, match="which = 'coef' is out of range"):
         brdf.rom_path(brdf.UNIT_CONFIGS["cosine_quadratic"], "coef")
+    with pytest.raises(ValueError, match="which = 'log2' is out of range: the cubic form has"):
+        brdf.rom_path(brdf.UNIT_CONFIGS["cubic"], "log2")
+    with pytest.raises(ValueError, match="which = 'coef' is out of range: the log2 form has"):
+        brdf.rom_path(brdf.UNIT_CONFIGS["log2"], "coef")
+    with pytest.raises(
+        ValueError, match=r"log_addr_bits = 17 is out of range: legal widths are 2\.\.16"
+    ):
+        FixedConfig("log2", log_addr_bits=17)
 
 
 def test_quadratic_a_needs_ten_integer_bits() -> None:
@@ -246,10 +272,11 @@ def test_cubic_formats_are_the_rtls() -> None:
 def test_timing(name: str) -> None:
     """busy F + l cycles, valid at F .. F + l, F the front's 7 stages and the form's: 5 for the
     cosine-quadratic (its square in two stages), 6 for the quadratic (1 - a w and c t each in
-    two), 13 for the cubic (four products of two stages, each followed by a stage of its own);
-    the bench holds the RTL to them in every cycle."""
+    two), 13 for the cubic (four products of two stages, each followed by a stage of its own),
+    7 for the log2 (n x -log2 cos in two, the table address, the table read in two, 2 - lg,
+    the rounding); the bench holds the RTL to them in every cycle."""
     cfg = brdf.UNIT_CONFIGS[name]
-    fill = {"cosine_quadratic": 12, "quadratic": 13, "cubic": 20}[name]
+    fill = {"cosine_quadratic": 12, "quadratic": 13, "cubic": 20, "log2": 14}[name]
     assert brdf.FRONT_STAGES + brdf.FORM_LATENCY[name] == brdf.fill_latency(cfg) == fill
     assert brdf.cycles(0, cfg) == fill and brdf.cycles(2047, cfg) == fill + 2047
     assert brdf.cycles(np.array([0, 5]), cfg).tolist() == [fill, fill + 5]
@@ -271,6 +298,12 @@ def test_committed_rom_equals_fresh_generation() -> None:
     assert brdf.rom_name(brdf.UNIT_CONFIGS["cubic"], "coef") == (
         "brdf_cubic_coef_c18_q11.7_q1.17_q0.18_q0.18.hex"
     )
+    log2 = brdf.UNIT_CONFIGS["log2"]
+    assert brdf.rom_kinds(log2) == ("angle", "log2")
+    assert brdf.rom_name(log2, "angle") == "brdf_log2cos_a12_d20.hex"
+    assert brdf.rom_name(log2, "log2") == "brdf_log2_a10_d16.hex"
+    assert dict(brdf.rom_layout(log2, "angle").config)["TABLE"] == 1  # -log2 cos
+    assert dict(brdf.rom_layout(log2, "log2").config) == {"LOG_ADDR_BITS": 10, "LOG_DATA_BITS": 16}
 
 
 def test_hdl_parameters_are_the_rtl_parameters() -> None:
@@ -283,7 +316,7 @@ def test_hdl_parameters_are_the_rtl_parameters() -> None:
         for k, v in re.findall(r"parameter (?:\[[^\]]*\] )?(\w+) = ([^\n]+)", header)
     }
     params = brdf.hdl_parameters(brdf.UNIT_CONFIGS["quadratic"])
-    assert set(rtl) == {*params, "RESET_ALL"}
+    assert set(rtl) == {*params, "LOG_ROM_FILE", "RESET_ALL"}
     defaults = brdf.hdl_parameters(brdf.UNIT_CONFIGS["cosine_quadratic"])
     assert rtl["FORM"] == '"cosine_quadratic"'
     for key, value in defaults.items():
@@ -292,6 +325,9 @@ def test_hdl_parameters_are_the_rtl_parameters() -> None:
         elif key != "FORM":
             assert int(rtl[key]) == value, key
     assert Path(str(params["COEF_ROM_FILE"])).name in rtl["COEF_ROM_FILE"]
+    log2 = brdf.hdl_parameters(brdf.UNIT_CONFIGS["log2"])
+    assert Path(str(log2["LOG_ROM_FILE"])).name in rtl["LOG_ROM_FILE"]
+    assert set(rtl) == {*log2, "COEF_ROM_FILE", "RESET_ALL"}
 
 
 def _simulate(params: dict[str, object], work: Path) -> tuple[int, str]:
@@ -356,6 +392,46 @@ def test_rtl_stops_on_a_bad_cubic_image(tmp_path: Path) -> None:
     quad = str(brdf.rom_path(brdf.UNIT_CONFIGS["quadratic"], "coef"))
     status, output = _simulate({**params, "COEF_ROM_FILE": quad}, tmp_path)
     assert status != 0 and f'COEF_ROM_FILE "{quad}"' in output, output
+
+
+def test_rtl_stops_on_a_bad_log2_image(tmp_path: Path) -> None:
+    """The log2 form's two images: the committed ones pass; a log2 table whose header gives
+    another LOG_DATA_BITS, the w = 1 - cos angle table in place of -log2 cos, and the angle
+    table as the log2 table stop the run with one message naming the file parameter, the
+    field, its value and what this instance needs."""
+    cfg = brdf.UNIT_CONFIGS["log2"]
+    params = brdf.hdl_parameters(cfg)
+    status, output = _simulate(params, tmp_path)
+    assert status == 0 and "ROM" not in output, output
+    layout = brdf.rom_layout(cfg, "log2")
+    config = tuple((k, v + 1 if k == "LOG_DATA_BITS" else v) for k, v in layout.config)
+    wrong = tmp_path / "log_data.hex"
+    wrong.write_text(
+        rom.format_image(brdf.rom_words(cfg, "log2"), replace(layout, config=config), "bad L")
+    )
+    status, output = _simulate({**params, "LOG_ROM_FILE": str(wrong)}, tmp_path)
+    assert status != 0 and f'LOG_ROM_FILE "{wrong}": check field LOG_DATA_BITS is 17' in output
+    assert "this instance needs 16" in output, output
+    w_table = str(brdf.rom_path(brdf.UNIT_CONFIGS["quadratic"], "angle"))
+    status, output = _simulate({**params, "ANGLE_ROM_FILE": w_table}, tmp_path)
+    assert status != 0 and f'ANGLE_ROM_FILE "{w_table}": check field TABLE is 0' in output
+    assert "this instance needs 1" in output, output
+    status, output = _simulate({**params, "LOG_ROM_FILE": params["ANGLE_ROM_FILE"]}, tmp_path)
+    assert status != 0 and "LOG_ROM_FILE" in output and "bad ROM image" in output, output
+    with pytest.raises(rom.RomFileError, match=r"\(LOG_DATA_BITS = 17, expected 16\)"):
+        brdf.read_rom(cfg, "log2", wrong)
+
+
+def test_log2_tables_are_the_models() -> None:
+    """The log2 form's images hold ``fixed.rom_images``' words: the angle table -log2 cos in
+    Q2.(D - 2), saturated to 2^D - 1 near pi/2, the second table log2(1 + f) (word 0 is 0:
+    the next octave's j = 2^E reads it)."""
+    cfg = brdf.UNIT_CONFIGS["log2"]
+    images = brdf.rom_images(cfg)
+    assert brdf.rom_words(cfg, "angle").tolist() == images["angle"].tolist()
+    assert brdf.rom_words(cfg, "log2").tolist() == images["log2"].tolist()
+    assert int(images["angle"][0]) == 0 and int(images["angle"][-1]) == (1 << 20) - 1
+    assert int(images["log2"][0]) == 0 and int(images["log2"].max()) < 1 << 16
 
 
 def _yosys() -> str | None:
@@ -425,7 +501,7 @@ def test_fusesoc_core_lints_every_form(tmp_path: Path) -> None:
     base = [exe, "--cores-root", str(RTL)]
     ran = subprocess.run([*base, "core", "list"], capture_output=True, text=True, env=env)
     assert "shading:units:brdf_unit:0.1" in ran.stdout, ran.stdout + ran.stderr
-    for target in ("lint", "lint_quadratic", "lint_cubic"):
+    for target in ("lint", "lint_quadratic", "lint_cubic", "lint_log2"):
         ran = subprocess.run(
             [*base, "run", "--build-root", str(tmp_path / "build"), "--target", target,
              "shading:units:brdf_unit"],

@@ -135,6 +135,8 @@ class BrdfFields:
     coef_bits: int = 18
     work_bits: int = 24
     out_bits: int = 16
+    log_addr_bits: int = 10
+    log_data_bits: int = 16
 
     def __post_init__(self) -> None:
         brdf.check_unit(self.config())
@@ -151,6 +153,8 @@ class BrdfFields:
             coef_bits=self.coef_bits,
             work_bits=self.work_bits,
             out_bits=self.out_bits,
+            log_addr_bits=self.log_addr_bits,
+            log_data_bits=self.log_data_bits,
             angle=angle,
         )
 
@@ -383,12 +387,13 @@ SPECULAR_CASES = [
 
 QUAD = {"form": "quadratic"}
 CUBIC = {"form": "cubic"}
+LOG2 = {"form": "log2"}
 BRDF_CASES = [
     Case("cosine_quadratic", {}, None),
     Case("quadratic", QUAD, None),
     Case("cubic", CUBIC, None),
     Case("piecewise", {"form": "piecewise"}, "FORM_has_no_RTL_yet"),
-    Case("log2", {"form": "log2"}, "FORM_has_no_RTL_yet"),
+    Case("log2", LOG2, None),
     Case("phong", {"form": "phong"}, "FORM_must_be_a_form_of_the_family"),
     # One field at a time at both ends of its range
     *[
@@ -404,6 +409,9 @@ BRDF_CASES = [
             ("coef_bits", 4, 32, "COEF_BITS_must_be_4_to_32", {}),
             ("work_bits", 4, 28, "WORK_BITS_must_be_4_to_28", QUAD),
             ("out_bits", 1, 24, "OUT_BITS_must_be_1_to_24", {}),
+            # checked for every form (as FixedConfig does), read by the log2 form's datapath
+            ("log_addr_bits", 2, 16, "LOG_ADDR_BITS_must_be_2_to_16", LOG2),
+            ("log_data_bits", 4, 24, "LOG_DATA_BITS_must_be_4_to_24", LOG2),
         ]
         for case in (
             Case(f"{name}={lo}", {**base, name: lo}, None),
@@ -486,6 +494,23 @@ BRDF_CASES = [
         {**CUBIC, "cos_data_bits": 4, "work_bits": 20, "out_bits": 24, "coef_bits": 11},
         None,
     ),
+    # The log2 form: f's rounding shift F + 1 - E and lv's L + 1 - O at 0 and below, its
+    # narrowest angle word (F = 2), its unused coefficient and work widths at their ends
+    Case(
+        "log2 shifts <= 0",
+        {**LOG2, "cos_data_bits": 4, "log_addr_bits": 16, "log_data_bits": 4, "out_bits": 24},
+        None,
+    ),
+    Case(
+        "log2 shifts = 0", {**LOG2, "cos_data_bits": 11, "log_addr_bits": 10, "out_bits": 17}, None
+    ),
+    Case("log2 coef_bits=4 work_bits=4", {**LOG2, "coef_bits": 4, "work_bits": 4}, None),
+    Case(
+        "cosine_quadratic log_addr_bits=17", {"log_addr_bits": 17}, "LOG_ADDR_BITS_must_be_2_to_16"
+    ),
+    Case(
+        "quadratic log_data_bits=3", {**QUAD, "log_data_bits": 3}, "LOG_DATA_BITS_must_be_4_to_24"
+    ),
 ]
 
 # RTL-only parameters every unit has, with their legal values (no model field maps to them)
@@ -505,6 +530,7 @@ CASES = {
         *BRDF_CASES,
         *_reset_all_cases(QUAD),
         Case("cubic RESET_ALL=1", CUBIC, None, {"RESET_ALL": 1}),
+        Case("log2 RESET_ALL=1", LOG2, None, {"RESET_ALL": 1}),
     ],
     "divider_shift": DIVIDER_CASES + _reset_all_cases(DIV),
     "gouraud_segment": GOURAUD_CASES + _reset_all_cases(GOU),
@@ -570,7 +596,7 @@ def _yosys_files(unit: str, params: dict[str, object], work: Path) -> tuple[str,
     roms = {
         "divider_shift": ["ROM_FILE"],
         "specular_unit": ["A_ROM_FILE", "COS_ROM_FILE"],
-        "brdf_unit": ["ANGLE_ROM_FILE", "COEF_ROM_FILE"],
+        "brdf_unit": ["ANGLE_ROM_FILE", "COEF_ROM_FILE", "LOG_ROM_FILE"],
     }
     params = {**params, **dict.fromkeys(roms.get(unit, []), "empty.hex")}
     return " ".join(names), " ".join(f"-set {k} {_yosys_value(v)}" for k, v in params.items())

@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: Apache-2.0
 """Run the BRDF unit's cocotb bench (sim/tb_brdf.py) under SIM (Icarus by default): each form
 with RTL at its default widths (``brdf.UNIT_CONFIGS``), RESET_ALL = 0 and, for the tests that
-reset, 1; and the saved mutants ``brdf_unit_round_quarter`` and, for the cubic,
-``brdf_unit_cubic_b_word`` (tests/mutants), which it must fail naming intensity."""
+reset, 1; and the saved mutants ``brdf_unit_round_quarter``, for the cubic
+``brdf_unit_cubic_b_word`` and for the log2 form ``brdf_log2_octave_bit`` (tests/mutants), which
+it must fail naming intensity."""
 
 from __future__ import annotations
 
@@ -84,6 +85,25 @@ def test_bench_fails_on_the_cubic_b_word_mutant(request) -> None:
         build="_b_word",
         testcase=["test_extremes"],
         rtl=mutants.build("brdf_unit_cubic_b_word", SIM_BUILD / "mutants"),
+        expect_failure=True,
+    )
+    record_sim(request, records)
+    errors = [e for r in records for e in r["first_errors"]]
+    assert sum(r["errors"] for r in records) > 0 and errors, records
+    assert all("mismatch" in e and "'intensity'" in e and "reproduce with" in e for e in errors)
+
+
+def test_bench_fails_on_the_log2_octave_bit_mutant(request) -> None:
+    """The log2 datapath's f in the second octave from the wrong bit of x (rtl/brdf_log2.v
+    replaced by the mutant): the bench fails, every error it reports is an intensity mismatch
+    of a named job."""
+    records = _run(
+        "log2",
+        0,
+        build="_octave_bit",
+        testcase=["test_extremes"],
+        rtl=mutants.build("brdf_log2_octave_bit", SIM_BUILD / "mutants"),
+        replaces="brdf_log2.v",
         expect_failure=True,
     )
     record_sim(request, records)

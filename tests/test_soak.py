@@ -63,6 +63,7 @@ CONFIGS = {
     "brdf_cosine_quadratic": (brdf.UNIT_CONFIGS["cosine_quadratic"], SHORT_SOAK),
     "brdf_quadratic": (brdf.UNIT_CONFIGS["quadratic"], SHORT_SOAK),
     "brdf_cubic": (brdf.UNIT_CONFIGS["cubic"], SHORT_SOAK),
+    "brdf_log2": (brdf.UNIT_CONFIGS["log2"], SHORT_SOAK),
 }
 
 

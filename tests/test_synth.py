@@ -220,8 +220,8 @@ def test_the_units_synthesise_their_listed_files() -> None:
     below = {
         "gouraud_segment": [],
         "brdf_unit": [
-            "brdf_cosine_quadratic.v", "brdf_quadratic.v", "brdf_cubic.v", "brdf_mul.v",
-            "brdf_round.v", "shading_rom.v",
+            "brdf_cosine_quadratic.v", "brdf_quadratic.v", "brdf_cubic.v", "brdf_log2.v",
+            "brdf_mul.v", "brdf_round.v", "shading_rom.v",
         ],
     }  # fmt: skip
     for unit in UNITS:
@@ -353,8 +353,8 @@ def test_the_brdf_page_carries_the_recorded_resources() -> None:
     for part in PARTS:
         spec = row["specular_unit", "default", part]
         placed = [x for x in (spec, row.get(("specular_unit", "up5k", part))) if x and x.fmax_mhz]
-        cq, q, cubic = (row["brdf_unit", form, part] for form in forms)
-        for r in (cq, q, cubic):
+        cq, q, cubic, log2 = (row["brdf_unit", form, part] for form in forms)
+        for r in (cq, q, cubic, log2):
             assert r.bram < spec.bram and r.ff > spec.ff  # fewer block RAMs, more flip-flops
             if PARTS[part].dsp and part != "gw1nr-9":
                 assert r.dsp > spec.dsp  # more DSP blocks where the part has them
@@ -363,8 +363,9 @@ def test_the_brdf_page_carries_the_recorded_resources() -> None:
             if not r.fits:
                 continue
             assert r.ok, r
-            if part in ("up5k", "gw1nr-9"):  # slower there than the specular unit
-                assert all(r.fmax_mhz < other.fmax_mhz for other in placed), (r, placed)
+            if part in ("up5k", "gw1nr-9"):  # slower there than the specular unit, but log2
+                faster = r is log2
+                assert all((r.fmax_mhz > o.fmax_mhz) == faster for o in placed), (r, placed)
             if part == "ecp5-25f":  # faster there than the specular unit's default
                 assert r.fmax_mhz > spec.fmax_mhz, (r, spec)
         assert cq.fits and q.fits  # both fit every part, targets met
@@ -375,6 +376,17 @@ def test_the_brdf_page_carries_the_recorded_resources() -> None:
         assert cubic.fits == (part not in ("up5k", "hx8k")), cubic
         if PARTS[part].dsp:
             assert cubic.dsp == 17
+        # the log2 form: fits every part, the fewest DSP blocks of the forms, the fastest, one
+        # block RAM more than the cosine-quadratic (its second table), the fewest LUTs where
+        # its products are not on LUT-rich paths (ECP5, Gowin) or all LUTs (HX8K)
+        others = (cq, q, cubic)
+        assert log2.fits and all(log2.fmax_mhz > r.fmax_mhz for r in others if r.fmax_mhz)
+        if PARTS[part].dsp:
+            assert all(log2.dsp < r.dsp for r in others)
+        if part in ("ecp5-25f", "gw1nr-9", "hx8k"):
+            assert all(log2.lut < r.lut for r in others)
+        one_bram = {"up5k": 4, "hx8k": 4}.get(part, 1)
+        assert log2.bram == cq.bram + one_bram
     for part in ("up5k", "hx8k"):
         assert not row["specular_unit", "default", part].fits
         assert row["brdf_unit", "cubic", part].bram == 38 > PARTS[part].bram
@@ -385,13 +397,15 @@ def test_the_brdf_page_carries_the_recorded_resources() -> None:
         ecp5 = row["brdf_unit", form, "ecp5-25f"]
         assert ecp5.target_mhz == spec_target["ecp5-25f"] <= ecp5.fmax_mhz
     # 35 MHz on the UP5K: the quadratic under 40, the cosine-quadratic at its edge; the cubic
-    # has no target there
+    # has no target there; the log2 form the specular unit's 40
+    log2_up5k = row["brdf_unit", "log2", "up5k"]
+    assert log2_up5k.target_mhz == spec_target["up5k"] <= log2_up5k.fmax_mhz
     cq_up5k, q_up5k = (row["brdf_unit", form, "up5k"] for form in ("cosine_quadratic", "quadratic"))
     assert cq_up5k.target_mhz == q_up5k.target_mhz == 35 <= q_up5k.fmax_mhz < spec_target["up5k"]
     assert 35 <= cq_up5k.fmax_mhz < 42 and row["brdf_unit", "cubic", "up5k"].target_mhz is None
     hardware = brdf.format_hardware()  # the cost table the list cites: 3 multipliers against 2
     assert "base x base (25 x 25)" in hardware and "c x (1 - a w) (21 x 25)" in hardware
-    counts = {f"brdf_unit, {f}": n for f, n in zip(forms, (3, 3, 5), strict=True)}
+    counts = {f"brdf_unit, {f}": n for f, n in zip(forms, (3, 3, 5, 2), strict=True)}
     for unit, count in [*counts.items(), ("specular_unit (the", 2)]:
         (line,) = [ln for ln in hardware.splitlines() if ln.startswith(f"| {unit}")]
         assert line.split(" | ")[1].startswith(f"{count}: "), line
@@ -462,7 +476,7 @@ def test_the_cli_runs_every_brdf_form_without_a_config() -> None:
     parser_args = module.argparse.Namespace(units=["brdf_unit"], parts=["xc7"], config=None)
     assert module.runs_of(parser_args) == [
         ("brdf_unit", "cosine_quadratic", "xc7"), ("brdf_unit", "quadratic", "xc7"),
-        ("brdf_unit", "cubic", "xc7"),
+        ("brdf_unit", "cubic", "xc7"), ("brdf_unit", "log2", "xc7"),
     ]  # fmt: skip
     parser_args.config = ["quadratic"]
     assert module.runs_of(parser_args) == [("brdf_unit", "quadratic", "xc7")]

@@ -5,7 +5,7 @@ property numbers, covers, induction helper connections and deliberate errors.
 ``model.hw.formal`` runs them like the other units'; this module holds the unit's data only.
 The property file is ``formal/brdf_unit_props.v``: port-level timing (busy, valid), the n error
 flag and reset, proven by k-induction at each form's default widths (``brdf.UNIT_CONFIGS``).
-Both tables are removed with their read data left free (``MEMORY``) and the data path, which no
+Every table is removed with its read data left free (``MEMORY``) and the data path, which no
 property observes, goes with them: the protocol holds whatever the table words.  Layer 2:
 imports ``model.units`` and ``model.hw.mutants`` (``Mutant``).
 """
@@ -125,8 +125,8 @@ def params(config: str, kind: str = "prove") -> dict[str, object]:
 def jobs(make, quick: bool = False) -> list:
     """The unit's jobs, made by ``make(name, unit, kind, config, **fields)`` (FormalJob);
     ``quick``: the protocol proof of the cosine-quadratic form, its covers and one mutant; else
-    also the quadratic's and the cubic's proofs, every form with RESET_ALL = 1, and every
-    mutant."""
+    also the quadratic's, the cubic's and the log2's proofs, every form with RESET_ALL = 1, and
+    every mutant."""
     out = []
 
     def add(name: str, kind: str, config: str, **kw) -> None:

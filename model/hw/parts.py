@@ -161,9 +161,14 @@ TARGETS: dict[tuple[str, str, str], float] = {
     # tables and its 17 multiplier blocks do not fit the part (38 of 30 RAM40s, 17 of 8 DSPs).
     ("brdf_unit", "cosine_quadratic", "up5k"): 35.0,
     ("brdf_unit", "quadratic", "up5k"): 35.0,
+    # the log2 form at the specular unit's 40 MHz on the UP5K at its default widths: its one
+    # wide product is n x -log2 cos (10 x 20 bits), and the steps after it are a 2-bit octave
+    # carry and an 18-bit subtraction (47.6 MHz, seed 1)
+    ("brdf_unit", "log2", "up5k"): 40.0,
     ("brdf_unit", "cosine_quadratic", "ecp5-25f"): 100.0,
     ("brdf_unit", "quadratic", "ecp5-25f"): 100.0,
     ("brdf_unit", "cubic", "ecp5-25f"): 100.0,
+    ("brdf_unit", "log2", "ecp5-25f"): 100.0,
     # the streaming shading core (sim.synth_tops names its configurations): both paths, and
     # the highlight path alone
     ("shading_core", "default", "ecp5-25f"): 100.0,

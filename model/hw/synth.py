@@ -83,6 +83,7 @@ UNITS: dict[str, tuple[type, dict[str, object]]] = {
             "cosine_quadratic": brdf.UNIT_CONFIGS["cosine_quadratic"],
             "quadratic": brdf.UNIT_CONFIGS["quadratic"],
             "cubic": brdf.UNIT_CONFIGS["cubic"],
+            "log2": brdf.UNIT_CONFIGS["log2"],
         },
     ),
 }

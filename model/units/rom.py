@@ -7,7 +7,7 @@ check words: 32-bit fields, each in ``chunks(width)`` words of ``width`` bits, l
 after a ``// name = value`` comment:
 
 * ``magic``: the kind of ROM (``MAGIC``: ``"DIVR"``, ``"SR09"``, ``"SR12"``, ``"BRDA"``,
-  ``"BRDC"``, ``"BRD3"`` in ASCII);
+  ``"BRDC"``, ``"BRD3"``, ``"BRDL"`` in ASCII);
 * ``depth``, ``width``: of the data words;
 * the configuration the contents were built for, one field per RTL parameter
   (``KIND_FIELDS``; ``ALPHA`` as its index in ``ALPHA_NAMES``, a K of an unused table as 0);
@@ -62,6 +62,7 @@ MAGIC: dict[str, int] = {
     "brdf_angle": _tag("BRDA"),
     "brdf_coef": _tag("BRDC"),
     "brdf_cubic_coef": _tag("BRD3"),
+    "brdf_log2": _tag("BRDL"),
 }
 """The first check field of each kind of image."""
 END_MARK = _tag("END!")
@@ -77,6 +78,7 @@ KIND_FIELDS: dict[str, tuple[str, ...]] = {
     "brdf_cubic_coef": (
         *("FORM", "COEF_BITS", "R_FRAC_BITS", "P0_FRAC_BITS", "B1_FRAC_BITS", "B2_FRAC_BITS"),
     ),
+    "brdf_log2": ("LOG_ADDR_BITS", "LOG_DATA_BITS"),
 }
 """The configuration fields of each kind, in image order: the RTL parameters they must equal."""
 KIND_TITLES = {
@@ -86,6 +88,7 @@ KIND_TITLES = {
     "brdf_angle": "brdf_unit angle table",
     "brdf_coef": "brdf_unit coefficient table",
     "brdf_cubic_coef": "brdf_unit cubic coefficient table",
+    "brdf_log2": "brdf_unit log2 table",
 }
 ALPHA_NAMES = ("taylor", "inflection")
 """``ALPHA`` field values: the index of the mode (the RTL's ``ALPHA`` string parameter)."""

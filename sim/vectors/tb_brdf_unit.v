@@ -27,8 +27,11 @@ module tb_brdf_unit #(
     parameter COEF_BITS = 18,
     parameter WORK_BITS = 24,
     parameter OUT_BITS = 16,
+    parameter LOG_ADDR_BITS = 10,
+    parameter LOG_DATA_BITS = 16,
     parameter ANGLE_ROM_FILE = {`SHADING_ROM_DIR, "/brdf_w_a12_d20.hex"},
     parameter COEF_ROM_FILE = {`SHADING_ROM_DIR, "/brdf_quadratic_coef_c18_q10.8.hex"},
+    parameter LOG_ROM_FILE = {`SHADING_ROM_DIR, "/brdf_log2_a10_d16.hex"},
     // bit r set: an instance with RESET_ALL = r is replayed (3: both)
     parameter RESET_MODES = 3,
     parameter CYCLES = 1,
@@ -79,8 +82,11 @@ generate
                 .COEF_BITS(COEF_BITS),
                 .WORK_BITS(WORK_BITS),
                 .OUT_BITS(OUT_BITS),
+                .LOG_ADDR_BITS(LOG_ADDR_BITS),
+                .LOG_DATA_BITS(LOG_DATA_BITS),
                 .ANGLE_ROM_FILE(ANGLE_ROM_FILE),
                 .COEF_ROM_FILE(COEF_ROM_FILE),
+                .LOG_ROM_FILE(LOG_ROM_FILE),
                 .RESET_ALL(r)
             ) dut (
 `endif

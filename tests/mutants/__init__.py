@@ -27,6 +27,10 @@ snippet is no longer in the RTL exactly once, ``build`` fails instead of testing
 * ``brdf_unit_cubic_b_word``: the cubic's coefficient table reads the word of r and p0 on both
   ports (port B's address bit 0 stuck at 0), so b1 and b2 are r and p0's bits.  The cocotb
   bench must fail on it with the cubic, naming intensity.
+* ``brdf_log2_octave_bit``: the log2 datapath (rtl/brdf_log2.v) takes f in the second octave
+  (x in [1, 3), f = x - 1) with bit F where bit F + 1 belongs, so for x in [2, 3) f loses its
+  half and the table is read a half octave low.  The cocotb bench must fail on it with the
+  log2 form, naming intensity (the mutant replaces rtl/brdf_log2.v in the unit's sources).
 """
 
 from __future__ import annotations
@@ -77,6 +81,12 @@ MUTANTS = {
         "            .addr_b({n_addr, 1'b1}),\n",
         "            .addr_b({n_addr, 1'b0}),  // MUTANT: {r, p0} read as {b1, b2}\n",
         unit="brdf_unit",
+    ),
+    "brdf_log2_octave_bit": Mutant(
+        "brdf_log2_octave_bit",
+        "wire [F:0] v = oct_next ? {x[F+1], x[F-1:0]} : {x[F-1:0], 1'b0};\n",
+        "wire [F:0] v = oct_next ? {x[F], x[F-1:0]} : {x[F-1:0], 1'b0};  // MUTANT: bit F\n",
+        unit="brdf_log2",
     ),
 }
 

@@ -11,7 +11,8 @@ ROM-12 word.  n outside 1..1000 gives intensity 0 and n_err = 1 on every pixel.
 Owns which forms have RTL (``RTL_FORMS``, ``FORM_LATENCY``) and the extra rule a unit's tables
 impose (``check_unit``), ``unit_line``, the timing (``fill_latency``, ``cycles``,
 ``valid_offsets``), ``hdl_parameters`` and the ROM images (``rom_layout``, ``rom_text``,
-``rom_path``, ``read_rom``, ``write_roms``; ``UNIT_CONFIGS`` names the committed ones).  Only
+``rom_path``, ``read_rom``, ``write_roms``: the angle table, the coefficient table of a form
+that has one, the log2 form's second table; ``UNIT_CONFIGS`` names the committed ones).  Only
 ``c_int_bits``, ``c_frac_bits``, ``z_int_bits``, ``z_frac_bits``, ``len_width`` and
 ``out_width`` of ``cfg.angle`` reach the unit; its n range is always 1..1000.  May import numpy,
 numba, ``model.units.fixed``, ``rom``, ``model.units.specular``'s public names and ``fixed``.
@@ -30,11 +31,13 @@ from model.units.brdf.fixed import (
     COSINE_QUADRATIC,
     CUBIC,
     FORMS,
+    LOG2,
     QUADRATIC,
     FixedConfig,
     angle_table,
     coefficient_words,
     evaluate,
+    log2_table,
 )
 from model.units.specular import N_MAX, N_WIDTH
 
@@ -45,7 +48,7 @@ FRONT_STAGES = 7
 """Clock edges of every form's front and back: the accumulator, |zeta| in two steps, the
 angle-table address, the table read, the w gate (w = 2**D from pi/2 on), and x C; the
 rounded, saturated result is registered at the next edge (docs/brdf_unit.md, "Timing")."""
-FORM_LATENCY: dict[str, int] = {"cosine_quadratic": 5, "quadratic": 6, "cubic": 13}
+FORM_LATENCY: dict[str, int] = {"cosine_quadratic": 5, "quadratic": 6, "cubic": 13, "log2": 7}
 """Pipeline stages of each form's datapath module (rtl/brdf_<form>.v), w in to the output word:
 every form with RTL (the others raise in ``check_unit``)."""
 RTL_FORMS = tuple(FORM_LATENCY)
@@ -67,6 +70,7 @@ UNIT_CONFIGS: dict[str, FixedConfig] = {
     "cosine_quadratic": COSINE_QUADRATIC,
     "quadratic": QUADRATIC,
     "cubic": CUBIC,
+    "log2": LOG2,
 }
 """The configurations whose ROM images are committed under rtl/rom/ (``make roms``) and which
 the bench runs: each form's default widths (``fixed.CONFIGS``)."""
@@ -172,32 +176,37 @@ def valid_offsets(length, cfg: FixedConfig) -> list[int]:
 
 
 # ==================================================================== ROM images
-WHICH = ("angle", "coef")
+WHICH = ("angle", "coef", "log2")
 
 
 def _check_which(cfg: FixedConfig, which: str) -> None:
     if which not in WHICH:
         raise ValueError(f"which = {which!r} is out of range: legal are {WHICH}")
-    if which == "coef" and not cfg.coefficients:
-        raise ValueError(f"which = 'coef' is out of range: the {cfg.form} form has no such table")
+    if (which == "coef" and not cfg.coefficients) or (which == "log2" and cfg.form != "log2"):
+        raise ValueError(
+            f"which = {which!r} is out of range: the {cfg.form} form has no such table"
+        )
 
 
 def rom_name(cfg: FixedConfig, which: str) -> str:
     """The image's file name: the angle table by what it holds (w = 1 - cos, shared by every
     form but log2) and its widths, ``brdf_w_a12_d20.hex``; the coefficient table by form,
     word width and its coefficients' formats, ``brdf_quadratic_coef_c18_q10.8.hex``,
-    ``brdf_cubic_coef_c18_q11.7_q1.17_q0.18_q0.18.hex``."""
+    ``brdf_cubic_coef_c18_q11.7_q1.17_q0.18_q0.18.hex``; the log2 form's angle table
+    ``brdf_log2cos_a12_d20.hex`` and its second table by its widths, ``brdf_log2_a10_d16.hex``."""
     _check_which(cfg, which)
     if which == "angle":
         kind = "log2cos" if cfg.form == "log2" else "w"
         return f"brdf_{kind}_a{cfg.cos_addr_bits}_d{cfg.cos_data_bits}.hex"
+    if which == "log2":
+        return f"brdf_log2_a{cfg.log_addr_bits}_d{cfg.log_data_bits}.hex"
     fmt = "_".join(f"q{q.int_bits}.{q.frac_bits}" for q in cfg.coef_formats.values())
     return f"brdf_{cfg.form}_coef_c{cfg.coef_bits}_{fmt}.hex"
 
 
 def rom_path(cfg: FixedConfig, which: str = "angle") -> Path:
-    """The committed image of the angle table (``which="angle"``) or the coefficient table
-    (``"coef"``) under rtl/rom/."""
+    """The committed image of the angle table (``which="angle"``), the coefficient table
+    (``"coef"``) or the log2 form's second table (``"log2"``) under rtl/rom/."""
     return rom.ROM_DIR / rom_name(check_unit(cfg), which)
 
 
@@ -210,9 +219,13 @@ def rom_layout(cfg: FixedConfig, which: str = "angle") -> rom.RomLayout:
     COS_DATA_BITS, TABLE) or of the coefficient table: the quadratic's 1000 words of coef_bits,
     a of n at address n - 1 (fields FORM, COEF_BITS, COEF_FRAC_BITS); the cubic's 2000 words of
     2 coef_bits (``CUBIC_COEF_WORDS``; fields FORM, COEF_BITS and each coefficient's fraction
-    bits, R_FRAC_BITS, P0_FRAC_BITS, B1_FRAC_BITS, B2_FRAC_BITS)."""
+    bits, R_FRAC_BITS, P0_FRAC_BITS, B1_FRAC_BITS, B2_FRAC_BITS); or the log2 form's second
+    table, 2**log_addr_bits words of log_data_bits (fields LOG_ADDR_BITS, LOG_DATA_BITS)."""
     check_unit(cfg)
     _check_which(cfg, which)
+    if which == "log2":
+        config = (("LOG_ADDR_BITS", cfg.log_addr_bits), ("LOG_DATA_BITS", cfg.log_data_bits))
+        return rom.RomLayout("brdf_log2", 1 << cfg.log_addr_bits, cfg.log_data_bits, config)
     if which == "angle":
         config = (
             ("COS_ADDR_BITS", cfg.cos_addr_bits),
@@ -236,12 +249,15 @@ def rom_layout(cfg: FixedConfig, which: str = "angle") -> rom.RomLayout:
 
 
 def rom_words(cfg: FixedConfig, which: str = "angle") -> np.ndarray:
-    """The data words of the image: ``angle_table``, the quadratic's coefficient column, or
-    the cubic's coefficients two to a word (r above p0, then b1 above b2, for each n)."""
+    """The data words of the image: ``angle_table``, the quadratic's coefficient column, the
+    cubic's coefficients two to a word (r above p0, then b1 above b2, for each n), or
+    ``log2_table``."""
     check_unit(cfg)
     _check_which(cfg, which)
     if which == "angle":
         return angle_table(cfg)
+    if which == "log2":
+        return log2_table(cfg)
     words = coefficient_words(cfg)
     if cfg.form == "cubic":
         pairs = (words[:, 0::2] << cfg.coef_bits) | words[:, 1::2]
@@ -252,7 +268,20 @@ def rom_words(cfg: FixedConfig, which: str = "angle") -> np.ndarray:
 def rom_text(cfg: FixedConfig, which: str = "angle") -> str:
     """The ``$readmemh`` image of the angle or the coefficient table."""
     layout = rom_layout(cfg, which)
-    if which == "angle":
+    if which == "angle" and cfg.form == "log2":
+        header = (
+            f"brdf_unit angle table, log2 form: -log2 cos(i/2^{cfg.cos_addr_bits} * pi/2) as "
+            f"round(-log2(cos x) 2^{cfg.cos_data_bits - 2}), saturated to "
+            f"2^{cfg.cos_data_bits} - 1, i < 2^{cfg.cos_addr_bits}\n"
+            "the log2 form reads it. Generated by model.units.brdf."
+        )
+    elif which == "log2":
+        header = (
+            f"brdf_unit log2 table: log2(1 + j/2^{cfg.log_addr_bits}) as round(log2(1 + f) "
+            f"2^{cfg.log_data_bits}), j < 2^{cfg.log_addr_bits}\n"
+            "the log2 form's second table (the log2 device). Generated by model.units.brdf."
+        )
+    elif which == "angle":
         header = (
             f"brdf_unit angle table: w = 1 - cos(i/2^{cfg.cos_addr_bits} * pi/2) as "
             f"round(2 sin^2(x/2) 2^{cfg.cos_data_bits}), i < 2^{cfg.cos_addr_bits}\n"
@@ -285,8 +314,12 @@ def read_rom(cfg: FixedConfig, which: str = "angle", path=None) -> list[int]:
 
 
 def rom_kinds(cfg: FixedConfig) -> tuple[str, ...]:
-    """The tables the unit of ``cfg`` reads: ``("angle",)``, and ``"coef"`` if it has one."""
-    return ("angle", "coef") if check_unit(cfg).coefficients else ("angle",)
+    """The tables the unit of ``cfg`` reads: ``("angle",)``, and ``"coef"`` if it has one,
+    ``"log2"`` for the log2 form."""
+    check_unit(cfg)
+    if cfg.coefficients:
+        return ("angle", "coef")
+    return ("angle", "log2") if cfg.form == "log2" else ("angle",)
 
 
 def write_roms() -> list[Path]:
@@ -305,7 +338,7 @@ def write_roms() -> list[Path]:
 def hdl_parameters(cfg: FixedConfig) -> dict[str, object]:
     """The Verilog parameters of ``rtl/brdf_unit.v`` for ``cfg`` (its fields in UPPER_CASE,
     the angle format's six fields, the ROM images as absolute paths; COEF_ROM_FILE only for a
-    form with a coefficient table)."""
+    form with a coefficient table, LOG_ROM_FILE only for the log2 form)."""
     check_unit(cfg)
     a = cfg.angle
     params: dict[str, object] = {
@@ -321,8 +354,12 @@ def hdl_parameters(cfg: FixedConfig) -> dict[str, object]:
         "COEF_BITS": cfg.coef_bits,
         "WORK_BITS": cfg.work_bits,
         "OUT_BITS": cfg.out_bits,
+        "LOG_ADDR_BITS": cfg.log_addr_bits,
+        "LOG_DATA_BITS": cfg.log_data_bits,
         "ANGLE_ROM_FILE": str(rom_path(cfg, "angle")),
     }
     if cfg.coefficients:
         params["COEF_ROM_FILE"] = str(rom_path(cfg, "coef"))
+    if cfg.form == "log2":
+        params["LOG_ROM_FILE"] = str(rom_path(cfg, "log2"))
     return params

@@ -56,13 +56,18 @@ MEANINGS = {
     "len_width": "interval counter width: l = 0 .. 2^LEN_WIDTH - 1",
     "out_width": "intensity bits (saturated)",
     "cos_addr_bits": "angle-table address bits A (fraction bits of \\|zeta\\|, units of pi/2)",
-    "cos_data_bits": "angle-table word bits D (w = 1 - cos, D fraction bits)",
+    "cos_data_bits": (
+        "angle-table word bits D (w = 1 - cos, D fraction bits; the log2 form: -log2 cos, "
+        "D - 2 fraction bits)"
+    ),
     "coef_bits": (
         "coefficient word bits (the quadratic's a, each of the cubic's r, p0, b1, b2; unused by "
-        "the cosine-quadratic)"
+        "the cosine-quadratic and the log2)"
     ),
-    "work_bits": "fraction bits P of the form's intermediate values",
+    "work_bits": "fraction bits P of the form's intermediate values (unused by the log2)",
     "out_bits": "fraction bits O of the form's output word F",
+    "log_addr_bits": "the log2 form's second table: address bits E (f rounded to E bits)",
+    "log_data_bits": "the log2 form's second table: word bits L (log2(1 + f), L fraction bits)",
 }
 """What each parameter is, in the RTL's order."""
 
@@ -112,7 +117,8 @@ def parameter_ranges() -> list[ParameterRange]:
 
 def multipliers(cfg: FixedConfig) -> list[tuple[str, int, int]]:
     """The unit's multipliers as (what, operand bits, operand bits): the form's (two, the
-    cubic's four: b2 x tau and tau x h signed) and C x F."""
+    cubic's four: b2 x tau and tau x h signed, the log2's one: n times the table word) and
+    C x F."""
     check_unit(cfg)
     d, p = cfg.cos_data_bits, cfg.work_bits
     form = {
@@ -124,6 +130,7 @@ def multipliers(cfg: FixedConfig) -> list[tuple[str, int, int]]:
             ("tau x h", p + 5, p + 5),
             ("c x max(0, P)", d + 1, p + 9),
         ],
+        "log2": [("n x -log2 cos", N_WIDTH, d)],
     }[cfg.form]
     c_width = cfg.angle.c_int_bits + cfg.angle.c_frac_bits
     return [*form, ("C x F", c_width, cfg.out_bits)]
@@ -167,7 +174,7 @@ def format_parameters() -> str:
     forms = ", ".join(f'"{f}"' for f in UNIT_CONFIGS)
     lines.append(f'| `FORM` | the form | {forms} | "cosine_quadratic" |')
     lines.append(
-        "| `ANGLE_ROM_FILE`, `COEF_ROM_FILE` | the tables' images (`make roms`) | "
+        "| `ANGLE_ROM_FILE`, `COEF_ROM_FILE`, `LOG_ROM_FILE` | the tables' images (`make roms`) | "
         "files by model.units.brdf | in `` `SHADING_ROM_DIR `` |"
     )
     lines.append("| `RESET_ALL` | 1: rst_n also resets the data path | 0..1 | 0 |")
@@ -202,6 +209,8 @@ def format_costs() -> str:
             words = len(cfg.coefficients)
             each = f"{words} x {cfg.coef_bits}" if words > 1 else f"{cfg.coef_bits}"
             tables.append(f"coef {N_MAX} x {each}")
+        if "log2" in bits:
+            tables.append(f"log2 2^{cfg.log_addr_bits} x {cfg.log_data_bits}")
         lines.append(
             f"| brdf_unit, {form} | {len(multipliers(cfg))}: {mults} | {', '.join(tables)} | "
             f"{bits['total']} |"
