@@ -785,7 +785,7 @@ def prove_from_reset(
 def equivalence(
     folder: Path, top: str, design_il: Path, command: str, unit: bool, seq: int = 4,
     timeout: float = 90, contract: Contract | None = None, pdr_timeout: float = PDR_TIMEOUT,
-    earlier: bool = True,
+    earlier: bool = True, invariants: tuple[str, ...] = (),
 ) -> str | None:  # fmt: skip
     """Prove the design ``design_il`` (RTLIL, module ``top``) with the mutation ``command``
     equal to the original, the ROMs cut (``cut_roms``), in ``folder``: every matched named
@@ -799,9 +799,13 @@ def equivalence(
     only while the unit is idle, which the next start loads again.  Third: from reset, the
     outputs as ``contract`` defines them, by ABC's ``pdr`` (``_prove_from_reset``, given
     ``pdr_timeout`` seconds): what holds only in the states a reset leads to (a counter's
-    bound, a stage register read only while its valid bit is set); ``earlier`` = False: the
-    third alone (the others already failed on it).  The method's text, or None if none
-    proves it."""
+    bound, a stage register read only while its valid bit is set).  Fourth: the third with the
+    multipliers cut as well (``cut_products``: pdr then faces control and adders, not
+    products), then with ``invariants`` (Verilog over ``gold:wire`` and ``gate:wire``,
+    sim/mutation_invariants.py) asserted alongside the outputs, each try given ``pdr_timeout``
+    seconds: what pdr does not find by itself (each stage's registers equal in the two copies
+    while its valid bit is set).  ``earlier`` = False: the proofs from reset alone (the
+    others already failed on it).  The method's text, or None if none proves it."""
     if mutate_field(command, "port") in CLOCK_PORTS:
         # SAT steps every flip-flop on one clock: a clock mutation is out of its reach, unless
         # the cell never reads that clock
@@ -838,10 +842,18 @@ def equivalence(
             return f"sat -tempinduct (to {seq} cycles), the mutation's fanout matched while {BUSY}"
     if contract is None:
         return None
-    verdict = _prove_from_reset(folder, top, gold, gate, contract, pdr_timeout)
-    if verdict != "proven":
-        return None
-    return (
-        f"scorr and pdr from reset, the same power-up state: every output equal after reset, "
-        f"{', '.join(contract.data)} where defined"
-    )
+    outputs = f"every output equal after reset, {', '.join(contract.data)} where defined"
+    if _prove_from_reset(folder, top, gold, gate, contract, pdr_timeout) == "proven":
+        return f"scorr and pdr from reset, the same power-up state: {outputs}"
+    # the fourth: the multipliers cut too, then with the invariants asserted alongside
+    tries = [()] if product_cuts(gold) else []
+    tries += [invariants] if invariants else []
+    for given in tries:
+        verdict = _prove_from_reset(
+            folder, top, gold, gate, contract, pdr_timeout, products=True, invariants=given
+        )
+        if verdict == "proven":
+            cut = "ROMs and multipliers" if product_cuts(gold) else "ROMs"
+            also = f", with {len(given)} invariants proven alongside" if given else ""
+            return f"scorr and pdr from reset, {cut} cut{also}: {outputs}"
+    return None
