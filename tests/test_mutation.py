@@ -21,7 +21,15 @@ from pathlib import Path
 
 import pytest
 
-from sim import mutation, mutation_checks, mutation_proof, mutation_report, units, vector_sets
+from sim import (
+    mutation,
+    mutation_checks,
+    mutation_invariants,
+    mutation_proof,
+    mutation_report,
+    units,
+    vector_sets,
+)
 from sim.runner import SIM_BUILD
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -243,3 +251,93 @@ def test_a_rom_port_at_a_constant_address_reads_its_word(tmp_path: Path) -> None
     (data,) = [ln for ln in cut.splitlines() if "connect" in ln and "mutation_rom0_data" in ln]
     # RD_DATA is { q0 q } (port 1, at address 0, then port 0): q0 the word 0x5a, q the input
     assert data.endswith("{ \\q0 \\q } { 8'01011010 \\mutation_rom0_data [7:0] }"), data
+
+
+# The fourth proof (from reset, the multipliers cut, then the invariants of
+# sim/mutation_invariants.py asserted alongside) on the specular unit's list: survivors of the
+# third it proves (65: the accumulator's bit 0 set while it holds, after the line's last pixel;
+# 263: the accumulator stepping once more after it, proven with the stage invariants) and a
+# mutant the committed set kills (3), a few seconds each
+CUT_PROVEN, STAGED_PROVEN, CUT_KILLED = 65, 263, 3
+
+
+@pytest.fixture(scope="module")
+def specular_list() -> mutation.Netlist:
+    return mutation.prepare(mutation.DESIGNS["specular_unit"], BUILD)
+
+
+def _fourth(net: mutation.Netlist, mutant: int, folder: Path, invariants: tuple[str, ...]) -> str:
+    design = net.design
+    command = net.mutations[mutant - 1].command
+    return mutation_proof.prove_from_reset(
+        folder, design.top, net.design_il, command, design.contract, 60, True, invariants
+    )
+
+
+def test_the_product_cut_proves_a_survivor_and_finds_a_killed_mutant_s_counterexample(
+    specular_list: mutation.Netlist, tmp_path: Path
+) -> None:
+    """With both multipliers cut (``cut_products``: the mutant's product is the original's
+    where their operands agree), pdr proves 65, which it left undecided through the
+    products, and still finds the trace from reset that tells 3 from the original."""
+    rec = _record()["designs"]["specular_unit"]
+    assert str(CUT_KILLED) in rec["killed_by"]
+    assert _fourth(specular_list, CUT_PROVEN, tmp_path / "proven", ()) == "proven"
+    assert _fourth(specular_list, CUT_KILLED, tmp_path / "killed", ()) == "failed"
+    for name in ("proven", "killed"):
+        miter = (tmp_path / name / "miter.v").read_text()
+        assert "gold_mutation_mul0_in == gate_mutation_mul0_in ?" in miter
+        assert "$mul" not in (tmp_path / name / "gold_reset.il").read_text()
+
+
+def test_the_stage_invariants_prove_a_survivor_and_find_a_killed_mutant_s_counterexample(
+    specular_list: mutation.Netlist, tmp_path: Path
+) -> None:
+    """The specular unit's stage invariants (each stage's registers equal in the two copies
+    while its valid bit is set), asserted with the outputs: 263, which pdr leaves undecided
+    without them, proven; 3 still fails."""
+    stages = mutation_invariants.DESIGN["specular_unit"]
+    assert _fourth(specular_list, STAGED_PROVEN, tmp_path / "proven", stages) == "proven"
+    assert _fourth(specular_list, CUT_KILLED, tmp_path / "killed", stages) == "failed"
+
+
+def test_an_invariant_is_proven_not_assumed(
+    specular_list: mutation.Netlist, tmp_path: Path
+) -> None:
+    """An invariant the original breaks (the accumulator 0 while a pixel is in stage S0) gives
+    a counterexample on a mutant the same proof proves without it: the invariants are
+    asserted, so a wrong one can never make a proof."""
+    wrong = ("!gold:v_reg[0] || gold:acc_reg == 40'd0",)
+    assert _fourth(specular_list, CUT_PROVEN, tmp_path / "wrong", wrong) == "failed"
+
+
+# The Gouraud unit's 174 (start_reg bit 8 flipped while its bit 23 is set), proven with its own
+# invariants (sim/mutation_invariants.py GOURAUD_CLAMPED, about 140 s of pdr: the slow tier)
+CLAMP_PROVEN = 174
+
+
+def test_the_clamp_invariants_prove_gouraud_174(
+    gouraud_list: mutation.Netlist, tmp_path: Path
+) -> None:
+    """174's invariants are found by its mutate command and prove it from reset."""
+    command = gouraud_list.mutations[CLAMP_PROVEN - 1].command
+    given = mutation_invariants.invariants("gouraud_segment", command)
+    assert given == mutation_invariants.GOURAUD_CLAMPED
+    design = gouraud_list.design
+    verdict = mutation_proof.prove_from_reset(
+        tmp_path, design.top, gouraud_list.design_il, command, design.contract, 300, True, given
+    )
+    assert verdict == "proven"
+
+
+def test_the_clamp_invariants_find_a_killed_mutant_s_counterexample(
+    gouraud_list: mutation.Netlist, tmp_path: Path
+) -> None:
+    """The same invariants on a mutant a soak kills (15): a counterexample."""
+    command = gouraud_list.mutations[FROM_RESET_KILLED - 1].command
+    design = gouraud_list.design
+    verdict = mutation_proof.prove_from_reset(
+        tmp_path, design.top, gouraud_list.design_il, command, design.contract, 60, True,
+        mutation_invariants.GOURAUD_CLAMPED,
+    )  # fmt: skip
+    assert verdict == "failed"
