@@ -357,6 +357,12 @@ def core_checks(folder: Path) -> list[Check]:
         Check(CORE_HIGHLIGHT, None, 0, h_spans, h_pixels, HIGHLIGHT_SPANS, 0, 10, 10, 9,
               writer=lambda: _write_span_files(highlight_spans(), h_spans, h_pixels))
     )  # fmt: skip
+    r_spans = folder / "checks" / "spans_rounding.hex"
+    r_pixels = folder / "checks" / "pixels_rounding.hex"
+    checks.append(
+        Check(CORE_ROUNDING, None, 0, r_spans, r_pixels, ROUNDING_SPANS, 0, 10, 10, 9,
+              writer=lambda: _write_span_files(rounding_spans(), r_spans, r_pixels))
+    )  # fmt: skip
     return checks
 
 
@@ -462,6 +468,56 @@ def highlight_spans(count: int = HIGHLIGHT_SPANS, seed: int = DIRECTED_SEED + 4)
                    c=top_quarter())  # fmt: skip
         for ch in range(core.CHANNELS):
             row[f"diff_c{ch}"] = top_quarter()
+        words.append(core.pack(layout, row))
+    return words
+
+
+ROUNDING_SPANS = 600
+# How far from the rounding point of dI the quotients lie: each channel's a window, drawn
+ROUNDING_WINDOWS = (8, 64, 512, 2048)
+CORE_ROUNDING = (
+    f"{ROUNDING_SPANS} rounding spans: 1024 to 2047 pixels, Gouraud only, each channel's "
+    "quotient a x r within 8 to 2048 of a rounding point of its dI"
+)
+
+
+def rounding_spans(count: int = ROUNDING_SPANS, seed: int = DIRECTED_SEED + 5) -> list[int]:
+    """The core's increment corners: spans of 1024 to 2047 pixels, the Gouraud term alone
+    (spec = diff = 0), each channel's a = i_end - i_start chosen so that the divider's
+    quotient a x r (r = round(2^N / l), the reciprocal ROM's word) lies within a window of
+    8, 64, 512 or 2048 of a rounding point of dI = (q + 2^(N-1)) >> N, the other fields
+    random.  A change of a low bit of a partial product or of the rounding constant moves
+    dI by 1 LSB only there (a random a meets a window of 8 once in 2^16 quotients), and a
+    long span shows that LSB: pixel x moves by x / 2^I_FRAC levels."""
+    import numpy as np
+
+    from model.units import divider
+
+    fmt = core.SpanFormat(CORE_CONFIG)
+    layout = fmt.layout()
+    g, d = CORE_CONFIG.gouraud, CORE_CONFIG.divider
+    n, top = d.recip_bits, (1 << g.i_width) - 1
+    rng = np.random.default_rng(seed)
+    words = []
+    for _ in range(count):
+        length = int(rng.integers(1024, g.len_max + 1))
+        row = core.unpack(layout, core_run.random_spans(fmt, [length], int(
+            rng.integers(1 << 31)))[0])  # fmt: skip
+        row.update(spec=0, diff=0)
+        intervals = row["l"]
+        r = int(divider.reciprocal(intervals, n))
+        zeros = (r & -r).bit_length() - 1  # a x r is a multiple of 2^zeros
+        modulus = 1 << (n - zeros)
+        inverse = pow(r >> zeros, -1, modulus)
+        for ch in range(core.CHANNELS):
+            window = int(rng.choice(ROUNDING_WINDOWS))
+            target = ((1 << (n - 1)) + int(rng.integers(-window, window))) % (1 << n)
+            a = ((target >> zeros) * inverse) % modulus
+            # the a of that residue in -top..top, one drawn at random
+            choices = list(range(a - (top // modulus + 1) * modulus, top + 1, modulus))
+            a = int(rng.choice([v for v in choices if -top <= v]))
+            start = int(rng.integers(max(0, -a), top - max(0, a) + 1))
+            row[f"i_start{ch}"], row[f"i_end{ch}"] = start, start + a
         words.append(core.pack(layout, row))
     return words
 
