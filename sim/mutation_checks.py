@@ -363,6 +363,20 @@ def core_checks(folder: Path) -> list[Check]:
         Check(CORE_ROUNDING, None, 0, r_spans, r_pixels, ROUNDING_SPANS, 0, 10, 10, 9,
               writer=lambda: _write_span_files(rounding_spans(), r_spans, r_pixels))
     )  # fmt: skip
+    s_spans = folder / "checks" / "spans_sparse.hex"
+    s_pixels = folder / "checks" / "pixels_sparse.hex"
+    checks.append(
+        Check(CORE_SPARSE, None, 0, s_spans, s_pixels, SPARSE_SPANS, 0, SPARSE_IDLE, 0, 9,
+              writer=lambda: _write_span_files(sparse_spans(), s_spans, s_pixels))
+    )  # fmt: skip
+    t_spans = folder / "checks" / "spans_tables.hex"
+    t_pixels = folder / "checks" / "pixels_tables.hex"
+    checks.append(
+        Check(CORE_TABLES, None, 0, t_spans, t_pixels, TABLE_SPANS, 0, 10, 10, 9,
+              writer=lambda: _write_span_files(
+                  highlight_spans(TABLE_SPANS, DIRECTED_SEED + 7, per_table=True), t_spans,
+                  t_pixels))
+    )  # fmt: skip
     return checks
 
 
@@ -431,13 +445,18 @@ CORE_HIGHLIGHT = (
 )
 
 
-def highlight_spans(count: int = HIGHLIGHT_SPANS, seed: int = DIRECTED_SEED + 4) -> list[int]:
+def highlight_spans(
+    count: int = HIGHLIGHT_SPANS, seed: int = DIRECTED_SEED + 4, per_table: bool = False
+) -> list[int]:
     """The core's highlight lines (as ``highlight_inputs`` are the specular unit's): spans of
     1 to 200 pixels with both terms on, n random in 1..1000, the highlight angle and every
     pixel's where cos^n is above 1/256, the diffuse angle within pi/2, the highlight C and
     the three diffuse C in the top quarter of their range, the other fields random: a change
     of an angle below a ROM-12 address's rounding, or of a low bit of a table word, shows
-    about once in 10^5 pixels, where random spans, mostly dark, show it almost never."""
+    about once in 10^5 pixels, where random spans, mostly dark, show it almost never.
+    ``per_table``: n drawn from a k range chosen at random first, so that each cos^k table
+    (each ROM-12 bank) lights a quarter of the spans (n uniform in 1..1000 gives the k = 1, 2
+    and 4 tables 1, 1 and 4 spans in 1000)."""
     import numpy as np
 
     fmt = core.SpanFormat(CORE_CONFIG)
@@ -460,7 +479,11 @@ def highlight_spans(count: int = HIGHLIGHT_SPANS, seed: int = DIRECTED_SEED + 4)
         length = int(rng.integers(1, 201))
         row = core.unpack(layout, core_run.random_spans(fmt, [length], int(
             rng.integers(1 << 31)))[0])  # fmt: skip
-        n = int(rng.integers(1, 1001))
+        if per_table:
+            lo, hi, _k = s.k_ranges[int(rng.integers(len(s.k_ranges)))]
+            n = int(rng.integers(lo, hi + 1))
+        else:
+            n = int(rng.integers(1, 1001))
         edge = int(math.acos(2.0 ** (-8.0 / n)) / (math.pi / 2) * right)
         z0, dz = line(edge, length)
         diff_z0, diff_dz = line(right - 1, length)
@@ -520,6 +543,36 @@ def rounding_spans(count: int = ROUNDING_SPANS, seed: int = DIRECTED_SEED + 5) -
             row[f"i_start{ch}"], row[f"i_end{ch}"] = start, start + a
         words.append(core.pack(layout, row))
     return words
+
+
+SPARSE_SPANS = 400
+# Input idles of the sparse run, %: a span beat every 50 cycles on average, longer than a
+# pixel's way through the core, so the output FIFO runs empty between spans
+SPARSE_IDLE = 98
+CORE_SPARSE = (
+    f"{SPARSE_SPANS} sparse spans: 1 to 8 pixels, {SPARSE_IDLE} % idles, no stalls (the "
+    "output FIFO empties between spans)"
+)
+
+
+def sparse_spans(count: int = SPARSE_SPANS, seed: int = DIRECTED_SEED + 6) -> list[int]:
+    """Short random spans (1 to 8 pixels, every field random) for a run with few span beats:
+    the output FIFO empties after each span, at every fill of its pointers (the other runs
+    keep it filling, so it empties only after their last pixel, which no bench sees past),
+    and a pointer's wrap bit or an empty or full test that is wrong shows as a pixel beat too
+    many or too few in mid-run."""
+    import numpy as np
+
+    fmt = core.SpanFormat(CORE_CONFIG)
+    rng = np.random.default_rng(seed)
+    return core_run.random_spans(fmt, rng.integers(1, 9, count), seed)
+
+
+TABLE_SPANS = 8000
+CORE_TABLES = (
+    f"{TABLE_SPANS} highlight spans, each cos^k table a quarter of them: as the highlight "
+    "spans, n drawn from a k range chosen first"
+)
 
 
 def passes(bench: Bench, check: Check, mutant: int, work: Path) -> bool:

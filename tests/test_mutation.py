@@ -341,3 +341,54 @@ def test_the_clamp_invariants_find_a_killed_mutant_s_counterexample(
         mutation_invariants.GOURAUD_CLAMPED,
     )  # fmt: skip
     assert verdict == "failed"
+
+
+def test_rounding_spans_put_every_quotient_near_a_rounding_point() -> None:
+    """The core's rounding spans (100 of them here): Gouraud only, 1024 to 2047 pixels, each
+    channel's quotient a x r within its window of a rounding point of dI, so a change of dI
+    by one LSB is one of the divider's, and a long span shows it in a pixel for nearly every
+    channel (the model's lines with dI and dI +- 1 compared)."""
+    import numpy as np
+
+    from model.render import core
+    from model.render.pipeline import increment_from_quotient
+    from model.units import divider, gouraud
+
+    cfg = mutation_checks.CORE_CONFIG
+    fmt = core.SpanFormat(cfg)
+    n = cfg.divider.recip_bits
+    shown = tried = 0
+    for word in mutation_checks.rounding_spans(count=100):
+        r = core.unpack(fmt.layout(), word)
+        assert not r["spec"] and not r["diff"] and 1023 <= r["l"] < cfg.gouraud.len_max
+        assert r["x"] + r["l"] + 1 <= 1 << fmt.x_width
+        for ch in range(core.CHANNELS):
+            start, end = r[f"i_start{ch}"], r[f"i_end{ch}"]
+            assert min(start, end) >= 0 and max(start, end) < 1 << cfg.gouraud.i_width
+            q = int(divider.divide(end - start, r["l"], cfg.divider))
+            assert abs(q % (1 << n) - (1 << (n - 1))) <= max(mutation_checks.ROUNDING_WINDOWS)
+            di = int(increment_from_quotient(np.array([q]), cfg)[0])
+            line = gouraud.shade_line(start, di, r["l"] + 1, cfg.gouraud)
+            for step in (-1, 1):
+                tried += 1
+                moved = gouraud.shade_line(start, di + step, r["l"] + 1, cfg.gouraud)
+                shown += bool((moved != line).any())
+    assert shown >= 0.95 * tried, f"{shown} of {tried}"
+
+
+def test_table_highlight_spans_light_every_table() -> None:
+    """The per-table highlight spans: n from each k range in about a quarter of them (400
+    here), where n uniform in 1..1000 gives the first three tables 6 spans in 1000."""
+    from collections import Counter
+
+    from model.render import core
+
+    cfg = mutation_checks.CORE_CONFIG
+    fmt = core.SpanFormat(cfg)
+    ranges = cfg.specular.k_ranges
+    words = mutation_checks.highlight_spans(400, 1, per_table=True)
+    tables = Counter(
+        next(j for j, (lo, hi, _) in enumerate(ranges) if lo <= r["n"] <= hi)
+        for r in (core.unpack(fmt.layout(), w) for w in words)
+    )
+    assert all(70 <= tables[j] <= 130 for j in range(len(ranges))), tables
