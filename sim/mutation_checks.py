@@ -456,7 +456,9 @@ def highlight_spans(
     about once in 10^5 pixels, where random spans, mostly dark, show it almost never.
     ``per_table``: n drawn from a k range chosen at random first, so that each cos^k table
     (each ROM-12 bank) lights a quarter of the spans (n uniform in 1..1000 gives the k = 1, 2
-    and 4 tables 1, 1 and 4 spans in 1000)."""
+    and 4 tables 1, 1 and 4 spans in 1000), and every angle within a quarter of the
+    highlight's edge, its epicentre, where the table words are largest and a change of their
+    low bit moves C x word across a rounding point most often."""
     import numpy as np
 
     fmt = core.SpanFormat(CORE_CONFIG)
@@ -485,7 +487,7 @@ def highlight_spans(
         else:
             n = int(rng.integers(1, 1001))
         edge = int(math.acos(2.0 ** (-8.0 / n)) / (math.pi / 2) * right)
-        z0, dz = line(edge, length)
+        z0, dz = line(edge // 4 if per_table else edge, length)
         diff_z0, diff_dz = line(right - 1, length)
         row.update(n=n, spec=1, diff=1, z0=z0, dz=dz, diff_z0=diff_z0, diff_dz=diff_dz,
                    c=top_quarter())  # fmt: skip
@@ -570,8 +572,8 @@ def sparse_spans(count: int = SPARSE_SPANS, seed: int = DIRECTED_SEED + 6) -> li
 
 TABLE_SPANS = 8000
 CORE_TABLES = (
-    f"{TABLE_SPANS} highlight spans, each cos^k table a quarter of them: as the highlight "
-    "spans, n drawn from a k range chosen first"
+    f"{TABLE_SPANS} epicentre spans, each cos^k table a quarter of them: as the highlight "
+    "spans, n drawn from a k range chosen first, every angle within a quarter of the edge"
 )
 
 

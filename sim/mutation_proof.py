@@ -203,16 +203,20 @@ PRODUCT = "mutation_mul"
 
 
 def cut_products(il: str) -> str:
-    """The RTLIL ``il`` with every multiplier (a ``$mul`` cell) cut out, as ``cut_roms`` cuts a
-    ROM: its operands ``{A, B}`` become an output port ``mutation_mul<k>_in``, its product an
-    input port ``mutation_mul<k>_y`` (k in the order of the cells' names, the same in the
-    original and in a mutant).  The from-reset miter (``miter_verilog``) gives both copies the
-    same product wherever their operands agree and any value where they do not: every
-    behaviour of the two real designs is still one of the miter's (sound), and the proof never
-    multiplies.  What it cannot show is an equivalence that needs the product's value."""
+    """The RTLIL ``il`` with every multiplier (a ``$mul`` cell of two signals) cut out, as
+    ``cut_roms`` cuts a ROM: its operands ``{A, B}`` become an output port
+    ``mutation_mul<k>_in``, its product an input port ``mutation_mul<k>_y`` (k in the order
+    of the cells' names, the same in the original and in a mutant).  The from-reset miter
+    (``miter_verilog``) gives both copies the same product wherever their operands agree
+    and any value where they do not: every behaviour of the two real designs is still one of
+    the miter's (sound), and the proof never multiplies.  What it cannot show is an
+    equivalence that needs the product's value."""
     # each cell with the attributes before it, which go with it
     found = r"^((?:[ \t]*attribute [^\n]*\n)*[ \t]*cell \$mul (\S+)\n.*?^\s*end)$"
-    cells = sorted(re.findall(found, il, re.M | re.S), key=lambda c: c[1])
+    cells = sorted(
+        (c for c in re.findall(found, il, re.M | re.S) if not _by_constant(c[0])),
+        key=lambda c: c[1],
+    )
     if not cells:
         return il
     decls = []
@@ -236,13 +240,15 @@ def cut_products(il: str) -> str:
 # The prefix of the output ports that show an internal wire to an invariant (``probed``)
 PROBE = "mutation_probe_"
 # A wire of an invariant: ``gold:name`` or ``gate:name`` (a named wire of the flattened design,
-# dots for its hierarchy), a Verilog bit select may follow
-_INVARIANT_WIRE = re.compile(r"\b(gold|gate):([A-Za-z_][\w.]*)")
+# dots for its hierarchy, a generate block's index before a dot: g_increment[2].u_increment.q),
+# a Verilog bit select may follow
+_INVARIANT_WIRE = re.compile(r"\b(gold|gate):([A-Za-z_]\w*(?:(?:\[\d+\])?\.[A-Za-z_]\w*)*)")
 
 
 def probe_name(wire: str) -> str:
-    """The port ``probed`` gives the wire ``wire`` (its dots made double underscores)."""
-    return PROBE + wire.replace(".", "__")
+    """The port ``probed`` gives the wire ``wire`` (a plain identifier: its dots made double
+    underscores, a generate index ``[i]`` made ``_i_``)."""
+    return PROBE + re.sub(r"\[(\d+)\]", r"_\1_", wire).replace(".", "__")
 
 
 def invariant_wires(invariants: tuple[str, ...]) -> list[str]:
@@ -264,7 +270,7 @@ def probed(il: str, top: str, wires: list[str]) -> str:
     widths = {
         name: int(width or 1)
         for width, name in re.findall(
-            r"^\s*wire (?:width (\d+) )?(?:\w+ \d+ )?\\(\S+)$", body, re.M
+            r"^\s*wire (?:width (\d+) )?(?:(?:offset \d+|upto|signed) )*\\(\S+)$", body, re.M
         )
     }
     decls, conns = [], []
@@ -279,12 +285,22 @@ def probed(il: str, top: str, wires: list[str]) -> str:
     return _add_ports(text, decls)
 
 
+def _by_constant(block: str) -> bool:
+    """The ``$mul`` cell ``block`` has a constant operand (a scaled index, as a banked ROM's
+    word select: wires and a shift, no multiplier; cut, its product would be any value, and
+    a select out of range reads x, a different free value in each copy)."""
+    conns = dict(re.findall(r"^\s*connect \\(\w+) (.*)$", block, re.M))
+    return any(re.fullmatch(r"\d+'[01]+", conns[x].strip()) for x in "AB")
+
+
 def product_cuts(il: str) -> list[tuple[int, int]]:
     """(operand bits, product bits) of each multiplier ``cut_products`` cuts out of the RTLIL
     ``il``, in its order (product k: ``mutation_mul<k>_*``)."""
     cells = sorted(re.findall(r"^\s*cell \$mul (\S+)\n(.*?)^\s*end$", il, re.M | re.S))
     found = []
     for _name, block in cells:
+        if _by_constant(block):
+            continue
         params = dict(re.findall(r"^\s*parameter \\(\w+) (\S+)$", block, re.M))
         found.append((int(params["A_WIDTH"]) + int(params["B_WIDTH"]), int(params["Y_WIDTH"])))
     return found
