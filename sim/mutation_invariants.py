@@ -16,6 +16,8 @@ Size: data and their reasons; the module only lists them.
 
 from __future__ import annotations
 
+import re
+
 
 def _staged(stages: list[tuple[str, tuple[str, ...]]]) -> tuple[str, ...]:
     """One invariant per pipeline stage: while the stage's valid bit is set in the original,
@@ -81,16 +83,52 @@ GOURAUD_CLAMPED = (
     f" && {_G} >= 33'd1048576)))",
 )
 
+
+def _increment(channel: int, reg: str) -> str:
+    """The core's increment register ``reg`` of ``channel`` (rtl/shading_increment.v) as an
+    invariant's wire."""
+    return f"g_increment[{channel}].u_increment.{reg}"
+
+
+def _low_bits(channel: int, changed: str) -> tuple[str, ...]:
+    """The core's increment of ``channel`` with a low bit of its partial product a_lo x r
+    changed (``changed``: a Verilog function of the original's 42-bit value, ``{}`` where it
+    goes): q = lo + (hi << 10) shares bits 0 to 9 with lo = a_lo x r, so the mutant's lo and q
+    (stages D and E, valid with vd_reg and ve_reg) are the original's with that change, and
+    di = (q + 2^19) >>> 20 is the same (a change of a bit below 10 keeps q inside its aligned
+    block of 2^10, which no rounding point, a multiple of 2^19, splits)."""
+    lo, q = _increment(channel, "lo_reg"), _increment(channel, "q_reg")
+    return (
+        f"!gold:vd_reg || gate:{lo} == " + changed.format(f"gold:{lo}"),
+        f"!gold:ve_reg || gate:{q} == " + changed.format(f"gold:{q}"),
+    )
+
+
+def selector(command: str) -> str:
+    """What names a mutation across netlists: its mode, the wire and bit it changes (and the
+    bit that controls it), not the cell, whose name carries Yosys's running numbers; the
+    whole command for a mutation of a cell's port with no wire named."""
+    fields = dict(re.findall(r"-(mode|wire|wirebit|ctrlbit) (\S+)", command))
+    if "wire" not in fields:
+        return command
+    return " ".join(
+        f"-{k} {fields[k]}" for k in ("mode", "wire", "wirebit", "ctrlbit") if k in fields
+    )
+
+
 MUTANT: dict[tuple[str, str], tuple[str, ...]] = {
-    (
-        "gouraud_segment",
-        "mutate -mode cnot1 -module gouraud_segment -cell $procdff$495 -port Q -portbit 8 "
-        "-ctrlbit 23 -wire start_reg -wirebit 8 -src gouraud_segment.v:199.21-199.30 "
-        "-src gouraud_segment.v:311.1-365.4",
-    ): GOURAUD_CLAMPED,
+    ("gouraud_segment", "-mode cnot1 -wire start_reg -wirebit 8 -ctrlbit 23"): GOURAUD_CLAMPED,
+    # the core's increments: lo_reg bit 3 tied to 0 (bit 3 of q cleared), ll_reg bit 9 flipped
+    # while bit 8 is set (bit 9 of lo and q flipped while their bit 8 is set)
+    ("shading_core", "-mode const0 -wire g_increment[2].u_increment.lo_reg -wirebit 3"): (
+        _low_bits(2, "({} & ~42'd8)")
+    ),
+    ("shading_core", "-mode cnot1 -wire g_increment[1].u_increment.ll_reg -wirebit 9 -ctrlbit 8"): (
+        _low_bits(1, "({0} ^ ({{41'd0, {0}[8]}} << 9))")
+    ),
 }
 
 
 def invariants(design: str, command: str) -> tuple[str, ...]:
     """The invariants the fourth proof asserts for the mutation ``command`` of ``design``."""
-    return DESIGN.get(design, ()) + MUTANT.get((design, command), ())
+    return DESIGN.get(design, ()) + MUTANT.get((design, selector(command)), ())
