@@ -8,8 +8,9 @@ An invariant is a Verilog expression over the wires of the two copies, ``gold:<w
 original) and ``gate:<wire>`` (the mutant), by the flattened design's names (dots for its
 hierarchy), read as each copy's flip-flops show them.  ``DESIGN`` holds a design's, given
 to every mutant of it that the earlier proofs leave; ``MUTANT`` a mutation's own (by its
-``mutate`` command, which names the cell and bit: the same mutation in a new list, under
-another id, finds it), given together with its design's.
+``selector``: its mode, wire and bits, which a new list of the same RTL names alike under
+another id, where the cell names carry Yosys's running numbers), given together with its
+design's.
 
 Size: data and their reasons; the module only lists them.
 """
