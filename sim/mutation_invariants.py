@@ -85,26 +85,6 @@ GOURAUD_CLAMPED = (
 )
 
 
-def _increment(channel: int, reg: str) -> str:
-    """The core's increment register ``reg`` of ``channel`` (rtl/shading_increment.v) as an
-    invariant's wire."""
-    return f"g_increment[{channel}].u_increment.{reg}"
-
-
-def _low_bits(channel: int, changed: str) -> tuple[str, ...]:
-    """The core's increment of ``channel`` with a low bit of its partial product a_lo x r
-    changed (``changed``: a Verilog function of the original's 42-bit value, ``{}`` where it
-    goes): q = lo + (hi << 10) shares bits 0 to 9 with lo = a_lo x r, so the mutant's lo and q
-    (stages D and E, valid with vd_reg and ve_reg) are the original's with that change, and
-    di = (q + 2^19) >>> 20 is the same (a change of a bit below 10 keeps q inside its aligned
-    block of 2^10, which no rounding point, a multiple of 2^19, splits)."""
-    lo, q = _increment(channel, "lo_reg"), _increment(channel, "q_reg")
-    return (
-        f"!gold:vd_reg || gate:{lo} == " + changed.format(f"gold:{lo}"),
-        f"!gold:ve_reg || gate:{q} == " + changed.format(f"gold:{q}"),
-    )
-
-
 def selector(command: str) -> str:
     """What names a mutation across netlists: its mode, the wire and bit it changes (and the
     bit that controls it), not the cell, whose name carries Yosys's running numbers; the
@@ -119,14 +99,6 @@ def selector(command: str) -> str:
 
 MUTANT: dict[tuple[str, str], tuple[str, ...]] = {
     ("gouraud_segment", "-mode cnot1 -wire start_reg -wirebit 8 -ctrlbit 23"): GOURAUD_CLAMPED,
-    # the core's increments: lo_reg bit 3 tied to 0 (bit 3 of q cleared), ll_reg bit 9 flipped
-    # while bit 8 is set (bit 9 of lo and q flipped while their bit 8 is set)
-    ("shading_core", "-mode const0 -wire g_increment[2].u_increment.lo_reg -wirebit 3"): (
-        _low_bits(2, "({} & ~42'd8)")
-    ),
-    ("shading_core", "-mode cnot1 -wire g_increment[1].u_increment.ll_reg -wirebit 9 -ctrlbit 8"): (
-        _low_bits(1, "({0} ^ ({{41'd0, {0}[8]}} << 9))")
-    ),
 }
 
 
