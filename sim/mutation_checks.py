@@ -2,11 +2,12 @@
 """The checks a mutant of ``make mutants`` meets (sim/mutation.py), in order, and one run of
 one: a unit's committed vector set, then soaks of the same configuration with other seeds; the
 core's committed set as the FuseSoC sim target runs it, then at full rate, with other idles
-and stalls, and random spans; the directed runs and the highlight lines last.  A check's
+and stalls, and random spans; the directed runs and the highlight lines, then the core's
+rounding, sparse and epicentre spans, last.  A check's
 files (a soak, the random spans) are written when a mutant first reaches it, afresh: the
 generators and the model may change.
 
-Size: about 530 lines: every check is a generator of stimulus aimed at one kind of fault,
+Size: about 640 lines: every check is a generator of stimulus aimed at one kind of fault,
 and the list's order is the record's (a check added goes last), so they stay together.
 """
 

@@ -2,7 +2,7 @@
 """The formal equivalence checks of ``make mutants`` (sim/mutation.py): a mutant that every
 check passes, against the original design, in Yosys.
 
-The ROM tables are cut out of both designs (``cut_roms``).  Two kinds of proof
+The ROM tables are cut out of both designs (``cut_roms``).  Four kinds of proof
 (``equivalence``):
 
 * Yosys's equivalence flow, ``equiv_make`` (a ``$equiv`` cell per bit of every named wire the
@@ -17,12 +17,17 @@ The ROM tables are cut out of both designs (``cut_roms``).  Two kinds of proof
   asserting the outputs equal after reset as the design's contract defines them (``Contract``:
   the data outputs only where defined), proven unbounded by ABC's ``scorr`` and ``pdr``
   (``_prove_from_reset``): equal from reset, which needs no invariant to be spelled out (a
-  counter's bound, a stage register read only while its valid bit is set).
+  counter's bound), if pdr finds it in its time.
+* The same miter with the multipliers cut as the ROMs are (``cut_products``: the mutant's
+  product is the original's where their operands agree, any value where not), then with
+  invariants over both copies' wires (sim/mutation_invariants.py, ``probed``) asserted
+  alongside the outputs: what pdr does not find through a multiplier, or at all in its time
+  (a stage register equal in the two copies while its valid bit is set).
 
 A verdict is kept per folder for the same netlists and script.
 
-Size: about 640 lines: the three proofs share the ROM cut, the miter's netlists, the verdict
-cache and the Yosys runs; each is one method of telling a mutant from the original.
+Size: about 870 lines: the four proofs share the ROM and product cuts, the miter's netlists,
+the verdict cache and the Yosys runs; each is one method of telling a mutant from the original.
 """
 
 from __future__ import annotations

@@ -8,7 +8,10 @@ mutant 0, the original, passes every check (``run_design`` stops otherwise), eve
 mutant is killed, by the check the record names, and the list Yosys makes now is the one the
 record was made from.  The docs' table is the record's.  The proof from reset
 (``mutation_proof.prove_from_reset``) finds a counterexample for a Gouraud mutant a check kills
-and proves the survivor of the other proofs the record says it proves.  Slow tier: every
+and proves the survivor of the other proofs the record says it proves; the fourth proof (the
+multipliers cut, then invariants asserted alongside) does the same on the specular unit's
+list, and an invariant the original breaks gives a counterexample.  Slow tier: the Gouraud
+unit's 174 proven with its invariants, and every
 mutant of every list the record does not prove equivalent through the checks (the specular
 unit's and the core's netlists take minutes to build, so they have no sample of their own),
 the same kills as the record and the rest its survivors.
