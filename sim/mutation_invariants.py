@@ -6,7 +6,9 @@ that pdr does not find by itself in its time, each proven together with the outp
 
 An invariant is a Verilog expression over the wires of the two copies, ``gold:<wire>`` (the
 original) and ``gate:<wire>`` (the mutant), by the flattened design's names (dots for its
-hierarchy), read as each copy's flip-flops show them.  ``DESIGN`` holds a design's, given
+hierarchy), read as each copy's flip-flops show them; a bit select counts from the wire's least
+significant bit as 0, whatever its declared range (the core's ``v_reg[10:1]`` is ``[9:0]``
+here).  ``DESIGN`` holds a design's, given
 to every mutant of it that the earlier proofs leave; ``MUTANT`` a mutation's own (by its
 ``selector``: its mode, wire and bits, which a new list of the same RTL names alike under
 another id, where the cell names carry Yosys's running numbers), given together with its
