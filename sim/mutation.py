@@ -32,7 +32,10 @@ For each design (the three units and the shading core) at its default configurat
    the asserts proven by ``sat -tempinduct`` (base case from the same all-zero state with
    rst_n low in the first cycle, induction step from any state); for the few those leave, a
    miter of the two from reset (the same power-up state), the outputs compared as the
-   design's ``contract`` defines them, proven by ABC's ``pdr`` (sim/mutation_proof.py).  A
+   design's ``contract`` defines them, proven by ABC's ``pdr`` (sim/mutation_proof.py), then
+   the same with the multipliers cut and with the invariants of sim/mutation_invariants.py
+   asserted alongside (each stage's registers equal in the two copies while its valid bit is
+   set, a mutation's own).  A
    proven mutant is *equivalent* (no test can kill it); one neither killed nor proven is a
    *survivor*.
 
@@ -44,7 +47,7 @@ docs/verification.md`` puts its table there (``make mutants``).
 tier's subset (tests/test_mutation.py).  ``--ids`` runs the mutants named, ``--survivors`` the
 last result's survivors, and ``--merge`` puts their new outcomes into the design's last
 result.json (``merge``: after a proof is added, only the survivors need to run again);
-``--reset-proof-only`` gives them the proof from reset alone (their checks and the other
+``--reset-proof-only`` gives them the proofs from reset alone (their checks and the other
 proofs already found nothing).
 
 Size: about 560 lines: the list, the netlist, the benches, the checks' order and the record
@@ -64,7 +67,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from model.hw.sources import source_list
-from sim import core_run, units, vector_run, vector_sets
+from sim import core_run, mutation_invariants, units, vector_run, vector_sets
 from sim.mutation_checks import (
     CORE_CONFIG,
     CTRL,
@@ -338,7 +341,7 @@ def run_design(
 ) -> DesignReport:  # fmt: skip
     """Every mutant of ``design`` (or those of ``ids``) through its checks and the proofs;
     ``reset_proof_only``: ``ids`` (survivors of an earlier run, whose checks and other proofs
-    found nothing) through the proof from reset alone, nothing built."""
+    found nothing) through the proofs from reset alone, nothing built."""
     net = prepare(design, out)
     t0 = time.monotonic()
     bench = None if reset_proof_only else build(net)
@@ -375,6 +378,7 @@ def run_design(
                         net.folder / "equiv" / str(i), design.top, net.design_il,
                         by_id[i].command, design.busy_proof, contract=design.contract,
                         pdr_timeout=pdr_timeout, earlier=not reset_proof_only,
+                        invariants=mutation_invariants.invariants(design.top, by_id[i].command),
                     ),
                     alive,
                 ),
@@ -558,7 +562,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument(
         "--reset-proof-only",
         action="store_true",
-        help="with --merge: the last result's survivors among the mutants run only the proof "
+        help="with --merge: the last result's survivors among the mutants run only the proofs "
         "from reset (their checks and other proofs are in it)",
     )
     args = parser.parse_args(argv)

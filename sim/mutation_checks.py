@@ -2,11 +2,12 @@
 """The checks a mutant of ``make mutants`` meets (sim/mutation.py), in order, and one run of
 one: a unit's committed vector set, then soaks of the same configuration with other seeds; the
 core's committed set as the FuseSoC sim target runs it, then at full rate, with other idles
-and stalls, and random spans; the directed runs and the highlight lines last.  A check's
+and stalls, and random spans; the directed runs and the highlight lines, then the core's
+rounding, sparse and epicentre spans, last.  A check's
 files (a soak, the random spans) are written when a mutant first reaches it, afresh: the
 generators and the model may change.
 
-Size: about 530 lines: every check is a generator of stimulus aimed at one kind of fault,
+Size: about 640 lines: every check is a generator of stimulus aimed at one kind of fault,
 and the list's order is the record's (a check added goes last), so they stay together.
 """
 
@@ -357,6 +358,26 @@ def core_checks(folder: Path) -> list[Check]:
         Check(CORE_HIGHLIGHT, None, 0, h_spans, h_pixels, HIGHLIGHT_SPANS, 0, 10, 10, 9,
               writer=lambda: _write_span_files(highlight_spans(), h_spans, h_pixels))
     )  # fmt: skip
+    r_spans = folder / "checks" / "spans_rounding.hex"
+    r_pixels = folder / "checks" / "pixels_rounding.hex"
+    checks.append(
+        Check(CORE_ROUNDING, None, 0, r_spans, r_pixels, ROUNDING_SPANS, 0, 10, 10, 9,
+              writer=lambda: _write_span_files(rounding_spans(), r_spans, r_pixels))
+    )  # fmt: skip
+    s_spans = folder / "checks" / "spans_sparse.hex"
+    s_pixels = folder / "checks" / "pixels_sparse.hex"
+    checks.append(
+        Check(CORE_SPARSE, None, 0, s_spans, s_pixels, SPARSE_SPANS, 0, SPARSE_IDLE, 0, 9,
+              writer=lambda: _write_span_files(sparse_spans(), s_spans, s_pixels))
+    )  # fmt: skip
+    t_spans = folder / "checks" / "spans_tables.hex"
+    t_pixels = folder / "checks" / "pixels_tables.hex"
+    checks.append(
+        Check(CORE_TABLES, None, 0, t_spans, t_pixels, TABLE_SPANS, 0, 10, 10, 9,
+              writer=lambda: _write_span_files(
+                  highlight_spans(TABLE_SPANS, DIRECTED_SEED + 7, per_table=True), t_spans,
+                  t_pixels))
+    )  # fmt: skip
     return checks
 
 
@@ -425,13 +446,20 @@ CORE_HIGHLIGHT = (
 )
 
 
-def highlight_spans(count: int = HIGHLIGHT_SPANS, seed: int = DIRECTED_SEED + 4) -> list[int]:
+def highlight_spans(
+    count: int = HIGHLIGHT_SPANS, seed: int = DIRECTED_SEED + 4, per_table: bool = False
+) -> list[int]:
     """The core's highlight lines (as ``highlight_inputs`` are the specular unit's): spans of
     1 to 200 pixels with both terms on, n random in 1..1000, the highlight angle and every
     pixel's where cos^n is above 1/256, the diffuse angle within pi/2, the highlight C and
     the three diffuse C in the top quarter of their range, the other fields random: a change
     of an angle below a ROM-12 address's rounding, or of a low bit of a table word, shows
-    about once in 10^5 pixels, where random spans, mostly dark, show it almost never."""
+    about once in 10^5 pixels, where random spans, mostly dark, show it almost never.
+    ``per_table``: n drawn from a k range chosen at random first, so that each cos^k table
+    (each ROM-12 bank) lights a quarter of the spans (n uniform in 1..1000 gives the k = 1, 2
+    and 4 tables 1, 1 and 4 spans in 1000), and every angle within a quarter of the
+    highlight's edge, its epicentre, where the table words are largest and a change of their
+    low bit moves C x word across a rounding point most often."""
     import numpy as np
 
     fmt = core.SpanFormat(CORE_CONFIG)
@@ -454,9 +482,13 @@ def highlight_spans(count: int = HIGHLIGHT_SPANS, seed: int = DIRECTED_SEED + 4)
         length = int(rng.integers(1, 201))
         row = core.unpack(layout, core_run.random_spans(fmt, [length], int(
             rng.integers(1 << 31)))[0])  # fmt: skip
-        n = int(rng.integers(1, 1001))
+        if per_table:
+            lo, hi, _k = s.k_ranges[int(rng.integers(len(s.k_ranges)))]
+            n = int(rng.integers(lo, hi + 1))
+        else:
+            n = int(rng.integers(1, 1001))
         edge = int(math.acos(2.0 ** (-8.0 / n)) / (math.pi / 2) * right)
-        z0, dz = line(edge, length)
+        z0, dz = line(edge // 4 if per_table else edge, length)
         diff_z0, diff_dz = line(right - 1, length)
         row.update(n=n, spec=1, diff=1, z0=z0, dz=dz, diff_z0=diff_z0, diff_dz=diff_dz,
                    c=top_quarter())  # fmt: skip
@@ -464,6 +496,86 @@ def highlight_spans(count: int = HIGHLIGHT_SPANS, seed: int = DIRECTED_SEED + 4)
             row[f"diff_c{ch}"] = top_quarter()
         words.append(core.pack(layout, row))
     return words
+
+
+ROUNDING_SPANS = 600
+# How far from the rounding point of dI the quotients lie: each channel's a window, drawn
+ROUNDING_WINDOWS = (8, 64, 512, 2048)
+CORE_ROUNDING = (
+    f"{ROUNDING_SPANS} rounding spans: 1024 to 2047 pixels, Gouraud only, each channel's "
+    "quotient a x r within 8 to 2048 of a rounding point of its dI"
+)
+
+
+def rounding_spans(count: int = ROUNDING_SPANS, seed: int = DIRECTED_SEED + 5) -> list[int]:
+    """The core's increment corners: spans of 1024 to 2047 pixels, the Gouraud term alone
+    (spec = diff = 0), each channel's a = i_end - i_start chosen so that the divider's
+    quotient a x r (r = round(2^N / l), the reciprocal ROM's word) lies within a window of
+    8, 64, 512 or 2048 of a rounding point of dI = (q + 2^(N-1)) >> N, the other fields
+    random.  A change of a low bit of a partial product or of the rounding constant moves
+    dI by 1 LSB only there (a random a meets a window of 8 once in 2^16 quotients), and a
+    long span shows that LSB: pixel x moves by x / 2^I_FRAC levels."""
+    import numpy as np
+
+    from model.units import divider
+
+    fmt = core.SpanFormat(CORE_CONFIG)
+    layout = fmt.layout()
+    g, d = CORE_CONFIG.gouraud, CORE_CONFIG.divider
+    n, top = d.recip_bits, (1 << g.i_width) - 1
+    rng = np.random.default_rng(seed)
+    words = []
+    for _ in range(count):
+        length = int(rng.integers(1024, g.len_max + 1))
+        row = core.unpack(layout, core_run.random_spans(fmt, [length], int(
+            rng.integers(1 << 31)))[0])  # fmt: skip
+        row.update(spec=0, diff=0)
+        intervals = row["l"]
+        r = int(divider.reciprocal(intervals, n))
+        zeros = (r & -r).bit_length() - 1  # a x r is a multiple of 2^zeros
+        modulus = 1 << (n - zeros)
+        inverse = pow(r >> zeros, -1, modulus)
+        for ch in range(core.CHANNELS):
+            window = int(rng.choice(ROUNDING_WINDOWS))
+            target = ((1 << (n - 1)) + int(rng.integers(-window, window))) % (1 << n)
+            a = ((target >> zeros) * inverse) % modulus
+            # the a of that residue in -top..top, one drawn at random
+            choices = list(range(a - (top // modulus + 1) * modulus, top + 1, modulus))
+            a = int(rng.choice([v for v in choices if -top <= v]))
+            start = int(rng.integers(max(0, -a), top - max(0, a) + 1))
+            row[f"i_start{ch}"], row[f"i_end{ch}"] = start, start + a
+        words.append(core.pack(layout, row))
+    return words
+
+
+SPARSE_SPANS = 400
+# Input idles of the sparse run, %: a span beat every 50 cycles on average, longer than a
+# pixel's way through the core, so the output FIFO runs empty between spans
+SPARSE_IDLE = 98
+CORE_SPARSE = (
+    f"{SPARSE_SPANS} sparse spans: 1 to 8 pixels, {SPARSE_IDLE} % idles, no stalls (the "
+    "output FIFO empties between spans)"
+)
+
+
+def sparse_spans(count: int = SPARSE_SPANS, seed: int = DIRECTED_SEED + 6) -> list[int]:
+    """Short random spans (1 to 8 pixels, every field random) for a run with few span beats:
+    the output FIFO empties after each span, at every fill of its pointers (the other runs
+    keep it filling, so it empties only after their last pixel, which no bench sees past),
+    and a pointer's wrap bit or an empty or full test that is wrong shows as a pixel beat too
+    many or too few in mid-run."""
+    import numpy as np
+
+    fmt = core.SpanFormat(CORE_CONFIG)
+    rng = np.random.default_rng(seed)
+    return core_run.random_spans(fmt, rng.integers(1, 9, count), seed)
+
+
+TABLE_SPANS = 8000
+CORE_TABLES = (
+    f"{TABLE_SPANS} epicentre spans, each cos^k table a quarter of them: as the highlight "
+    "spans, n drawn from a k range chosen first, every angle within a quarter of the edge"
+)
 
 
 def passes(bench: Bench, check: Check, mutant: int, work: Path) -> bool:

@@ -2,7 +2,7 @@
 """The formal equivalence checks of ``make mutants`` (sim/mutation.py): a mutant that every
 check passes, against the original design, in Yosys.
 
-The ROM tables are cut out of both designs (``cut_roms``).  Two kinds of proof
+The ROM tables are cut out of both designs (``cut_roms``).  Four kinds of proof
 (``equivalence``):
 
 * Yosys's equivalence flow, ``equiv_make`` (a ``$equiv`` cell per bit of every named wire the
@@ -17,12 +17,17 @@ The ROM tables are cut out of both designs (``cut_roms``).  Two kinds of proof
   asserting the outputs equal after reset as the design's contract defines them (``Contract``:
   the data outputs only where defined), proven unbounded by ABC's ``scorr`` and ``pdr``
   (``_prove_from_reset``): equal from reset, which needs no invariant to be spelled out (a
-  counter's bound, a stage register read only while its valid bit is set).
+  counter's bound), if pdr finds it in its time.
+* The same miter with the multipliers cut as the ROMs are (``cut_products``: the mutant's
+  product is the original's where their operands agree, any value where not), then with
+  invariants over both copies' wires (sim/mutation_invariants.py, ``probed``) asserted
+  alongside the outputs: what pdr does not find through a multiplier, or at all in its time
+  (a stage register equal in the two copies while its valid bit is set).
 
 A verdict is kept per folder for the same netlists and script.
 
-Size: about 640 lines: the three proofs share the ROM cut, the miter's netlists, the verdict
-cache and the Yosys runs; each is one method of telling a mutant from the original.
+Size: about 870 lines: the four proofs share the ROM and product cuts, the miter's netlists,
+the verdict cache and the Yosys runs; each is one method of telling a mutant from the original.
 """
 
 from __future__ import annotations
@@ -186,6 +191,124 @@ def cut_roms(il: str) -> str:
     head, rest = text.split("\nmodule ", 1)
     first, body = rest.split("\n", 1)
     return f"{head}\nmodule {first}\n" + "\n".join(numbered) + "\n" + body
+
+
+def _add_ports(text: str, decls: list[str]) -> str:
+    """The RTLIL ``text`` (one module) with the wires ``decls`` (each with ``{port}`` where its
+    port number goes) declared at its top, numbered after its last port."""
+    port = max(int(n) for n in re.findall(r"^\s*wire .*(?:input|output) (\d+) ", text, re.M))
+    numbered = [d.format(port=port + 1 + k) for k, d in enumerate(decls)]
+    head, rest = text.split("\nmodule ", 1)
+    first, body = rest.split("\n", 1)
+    return f"{head}\nmodule {first}\n" + "\n".join(numbered) + "\n" + body
+
+
+# The prefix of the ports that stand for a cut product (``cut_products``)
+PRODUCT = "mutation_mul"
+
+
+def cut_products(il: str) -> str:
+    """The RTLIL ``il`` with every multiplier (a ``$mul`` cell of two signals) cut out, as
+    ``cut_roms`` cuts a ROM: its operands ``{A, B}`` become an output port
+    ``mutation_mul<k>_in``, its product an input port ``mutation_mul<k>_y`` (k in the order
+    of the cells' names, the same in the original and in a mutant).  The from-reset miter
+    (``miter_verilog``) gives both copies the same product wherever their operands agree
+    and any value where they do not: every behaviour of the two real designs is still one of
+    the miter's (sound), and the proof never multiplies.  What it cannot show is an
+    equivalence that needs the product's value."""
+    # each cell with the attributes before it, which go with it
+    found = r"^((?:[ \t]*attribute [^\n]*\n)*[ \t]*cell \$mul (\S+)\n.*?^\s*end)$"
+    cells = sorted(
+        (c for c in re.findall(found, il, re.M | re.S) if not _by_constant(c[0])),
+        key=lambda c: c[1],
+    )
+    if not cells:
+        return il
+    decls = []
+    for k, (block, _name) in enumerate(cells):
+        params = dict(re.findall(r"^\s*parameter \\(\w+) (\S+)$", block, re.M))
+        conns = dict(re.findall(r"^\s*connect \\(\w+) (.*)$", block, re.M))
+        a, b, y = (int(params[f"{x}_WIDTH"]) for x in "ABY")
+        name = f"\\{PRODUCT}{k}"
+        decls += [
+            f"  wire width {a + b} output {{port}} {name}_in",
+            f"  wire width {y} input {{port}} {name}_y",
+        ]
+        il = il.replace(
+            block,
+            f"  connect {name}_in {{ {conns['A']} {conns['B']} }}\n  connect {conns['Y']} {name}_y",
+            1,
+        )
+    return _add_ports(il, decls)
+
+
+# The prefix of the output ports that show an internal wire to an invariant (``probed``)
+PROBE = "mutation_probe_"
+# A wire of an invariant: ``gold:name`` or ``gate:name`` (a named wire of the flattened design,
+# dots for its hierarchy, a generate block's index before a dot: g_increment[2].u_increment.q),
+# a Verilog bit select may follow
+_INVARIANT_WIRE = re.compile(r"\b(gold|gate):([A-Za-z_]\w*(?:(?:\[\d+\])?\.[A-Za-z_]\w*)*)")
+
+
+def probe_name(wire: str) -> str:
+    """The port ``probed`` gives the wire ``wire`` (a plain identifier: its dots made double
+    underscores, a generate index ``[i]`` made ``_i_``)."""
+    return PROBE + re.sub(r"\[(\d+)\]", r"_\1_", wire).replace(".", "__")
+
+
+def invariant_wires(invariants: tuple[str, ...]) -> list[str]:
+    """The wires the invariants read (``gold:name``, ``gate:name``), each once."""
+    return list(dict.fromkeys(w for inv in invariants for _, w in _INVARIANT_WIRE.findall(inv)))
+
+
+def invariant_verilog(invariant: str) -> str:
+    """The invariant with each ``gold:name`` / ``gate:name`` made the miter's wire of that
+    copy's probe (``gold_mutation_probe_name``)."""
+    return _INVARIANT_WIRE.sub(lambda m: f"{m.group(1)}_{probe_name(m.group(2))}", invariant)
+
+
+def probed(il: str, top: str, wires: list[str]) -> str:
+    """The RTLIL ``il`` with an output port ``probe_name(w)`` showing each wire ``w`` of
+    ``wires`` (as the flip-flop's readers see it: after ``shared_power_up``, the power-up state
+    in the first cycle)."""
+    body = il.split(f"\nmodule \\{top}\n", 1)[1].split("\nend\n", 1)[0]
+    widths = {
+        name: int(width or 1)
+        for width, name in re.findall(
+            r"^\s*wire (?:width (\d+) )?(?:(?:offset \d+|upto|signed) )*\\(\S+)$", body, re.M
+        )
+    }
+    decls, conns = [], []
+    for w in wires:
+        if w not in widths:
+            raise ValueError(f"an invariant reads {w}, which {top} has no wire of")
+        decls.append(f"  wire width {widths[w]} output {{port}} \\{probe_name(w)}")
+        conns.append(f"  connect \\{probe_name(w)} \\{w}")
+    head, rest = il.split(f"\nmodule \\{top}\n", 1)
+    inner, tail = rest.split("\nend\n", 1)
+    text = f"{head}\nmodule \\{top}\n{inner}\n" + "\n".join(conns) + "\nend\n" + tail
+    return _add_ports(text, decls)
+
+
+def _by_constant(block: str) -> bool:
+    """The ``$mul`` cell ``block`` has a constant operand (a scaled index, as a banked ROM's
+    word select: wires and a shift, no multiplier; cut, its product would be any value, and
+    a select out of range reads x, a different free value in each copy)."""
+    conns = dict(re.findall(r"^\s*connect \\(\w+) (.*)$", block, re.M))
+    return any(re.fullmatch(r"\d+'[01]+", conns[x].strip()) for x in "AB")
+
+
+def product_cuts(il: str) -> list[tuple[int, int]]:
+    """(operand bits, product bits) of each multiplier ``cut_products`` cuts out of the RTLIL
+    ``il``, in its order (product k: ``mutation_mul<k>_*``)."""
+    cells = sorted(re.findall(r"^\s*cell \$mul (\S+)\n(.*?)^\s*end$", il, re.M | re.S))
+    found = []
+    for _name, block in cells:
+        if _by_constant(block):
+            continue
+        params = dict(re.findall(r"^\s*parameter \\(\w+) (\S+)$", block, re.M))
+        found.append((int(params["A_WIDTH"]) + int(params["B_WIDTH"]), int(params["Y_WIDTH"])))
+    return found
 
 
 def observed(il: str, top: str, wires: list[str], condition: str) -> str:
@@ -493,7 +616,9 @@ def rom_reads(il: str) -> list[tuple[int, int, int, bool]]:
 
 
 def miter_verilog(
-    ports: dict[str, tuple[str, int]], contract: Contract, roms: list[tuple[int, int, int, bool]]
+    ports: dict[str, tuple[str, int]], contract: Contract, roms: list[tuple[int, int, int, bool]],
+    products: list[tuple[int, int]] = (),  # type: ignore[assignment]
+    invariants: tuple[str, ...] = (),
 ) -> str:  # fmt: skip
     """The top of the from-reset proof: ``gold`` and ``gate`` on the same inputs, ``rst_n``
     held low in the first cycle (``mutation_first``, a register that starts at 1), one
@@ -502,7 +627,12 @@ def miter_verilog(
     asynchronous ROM gives the mutant what it gives the original wherever their addresses
     agree (the same table) and anything where they do not (another word of it); a clocked
     ROM's addresses and enables must agree in every cycle, the first too, and its data is
-    the same in both (as ``_prove`` has it)."""
+    the same in both (as ``_prove`` has it).  A cut multiplier (``products``,
+    ``product_cuts``) is cut as an asynchronous ROM's read port is: the mutant's product is the
+    original's wherever their operands agree, anything where they do not.  ``invariants``
+    (Verilog expressions over ``gold:wire`` and ``gate:wire``, ``probed``) are asserted with
+    the outputs, from the second cycle on: proven together, each may serve the others as a
+    strengthening (pdr need not find it)."""
     inputs = {n: w for n, (d, w) in ports.items() if d == "input" and n != FIRST}
     outputs = {n: w for n, (d, w) in ports.items() if d == "output"}
     data = [n for n in outputs if n in contract.data]
@@ -520,7 +650,16 @@ def miter_verilog(
             f"{name}_other[{p * width + width - 1}:{p * width}]"
             for p in reversed(range(nports))
         ) + "}"  # fmt: skip
-    control = [n for n in outputs if n not in agree and n not in data and not n.endswith("_addr")]
+    for k, (_operands, width) in enumerate(products):
+        name = f"{PRODUCT}{k}"
+        other[f"{name}_other"] = width
+        gate_in[f"{name}_y"] = f"gold_{name}_in == gate_{name}_in ? {name}_y : {name}_other"
+    cut = {f"{PRODUCT}{k}_in" for k in range(len(products))}
+    control = [
+        n for n in outputs
+        if n not in agree and n not in data and not n.endswith("_addr") and n not in cut
+        and not n.startswith(PROBE)
+    ]  # fmt: skip
     lines = ["module mutation_miter ("]
     lines.append(
         ",\n".join(f"    input wire [{w - 1}:0] {n}" for n, w in {**inputs, **other}.items())
@@ -550,11 +689,14 @@ def miter_verilog(
     else:
         lines.append(f"    wire shown = {valid};")
     same = lambda names: " && ".join(f"gold_{n} == gate_{n}" for n in names) or "1'b1"  # noqa: E731
+    held = " && ".join(f"({invariant_verilog(i)})" for i in invariants) or "1'b1"
+    checked = "control_agrees && data_agrees" + (" && invariants_hold" if invariants else "")
     lines += [
         f"    wire roms_agree = {same(agree)};",
         f"    wire control_agrees = {same(control)};",
         f"    wire data_agrees = !shown || ({same(data)});",
-        "    always @* assert (roms_agree && (first || (control_agrees && data_agrees)));",
+        f"    wire invariants_hold = {held};",
+        f"    always @* assert (roms_agree && (first || ({checked})));",
         "endmodule",
         "",
     ]
@@ -569,8 +711,9 @@ _ABC_HOST = (
 
 
 def _prove_from_reset(
-    folder: Path, top: str, gold_il: str, gate_il: str, contract: Contract, timeout: float
-) -> str:
+    folder: Path, top: str, gold_il: str, gate_il: str, contract: Contract, timeout: float,
+    products: bool = False, invariants: tuple[str, ...] = (),
+) -> str:  # fmt: skip
     """The original ``gold_il`` and the mutant ``gate_il`` (RTLIL, ROMs cut), both from the
     same power-up state (``shared_power_up``) with ``rst_n`` low in the first cycle and the
     same inputs from then on: the assertion of ``miter_verilog`` in every cycle, unbounded.
@@ -579,16 +722,23 @@ def _prove_from_reset(
     (the registers it proves equal in the two copies by induction from the initial state,
     merged), then ``pdr`` (property-directed reachability) on what is left, given ``timeout``
     seconds.  'proven', 'failed' (a counterexample: a trace from reset that tells the two
-    apart, ``pdr_cex.txt``) or 'undecided' (time out).  A verdict is kept for the same
-    netlists, script and time limit."""
-    gold = shared_power_up(_memories_mapped(folder, cut_roms(gold_il), "gold"), top)
-    gate = shared_power_up(_memories_mapped(folder, cut_roms(gate_il), "gate"), top)
+    apart, ``pdr_cex.txt``) or 'undecided' (time out).  ``products``: the multipliers cut
+    too (``cut_products``); ``invariants`` asserted with the outputs (``miter_verilog``).  A
+    verdict is kept for the same netlists, script and time limit."""
+    cut = (lambda il: cut_products(cut_roms(il))) if products else cut_roms
+    wires = invariant_wires(invariants)
+    gold = shared_power_up(_memories_mapped(folder, cut(gold_il), "gold"), top)
+    gate = shared_power_up(_memories_mapped(folder, cut(gate_il), "gate"), top)
+    if wires:
+        gold, gate = probed(gold, top, wires), probed(gate, top, wires)
     ports = _port_widths(gold, top)
     if ports != _port_widths(gate, top):
         return "undecided"  # not the same flip-flops, or ports: no shared power-up state
     (folder / "gold_reset.il").write_text(gold)
     (folder / "gate_reset.il").write_text(gate)
-    (folder / "miter.v").write_text(miter_verilog(ports, contract, rom_reads(gold_il)))
+    muls = product_cuts(gold_il) if products else []
+    miter = miter_verilog(ports, contract, rom_reads(gold_il), muls, invariants)
+    (folder / "miter.v").write_text(miter)
     (folder / "abc_host.v").write_text(_ABC_HOST)
     limit = max(1, int(timeout))
     (folder / "pdr.abc").write_text(
@@ -641,7 +791,7 @@ def _prove_from_reset(
 
 def prove_from_reset(
     folder: Path, top: str, design_il: Path, command: str, contract: Contract,
-    timeout: float = PDR_TIMEOUT,
+    timeout: float = PDR_TIMEOUT, products: bool = False, invariants: tuple[str, ...] = (),
 ) -> str:  # fmt: skip
     """The third proof alone (``_prove_from_reset``) of the design ``design_il`` with the
     mutation ``command`` against the original, in ``folder``: 'proven', 'failed' or
@@ -650,13 +800,13 @@ def prove_from_reset(
     original = os.path.relpath(design_il, folder)
     run_yosys(f"read_rtlil {original}\n{command}\nwrite_rtlil gate.il\n", folder, "mutate")
     gold, gate = design_il.read_text(), (folder / "gate.il").read_text()
-    return _prove_from_reset(folder, top, gold, gate, contract, timeout)
+    return _prove_from_reset(folder, top, gold, gate, contract, timeout, products, invariants)
 
 
 def equivalence(
     folder: Path, top: str, design_il: Path, command: str, unit: bool, seq: int = 4,
     timeout: float = 90, contract: Contract | None = None, pdr_timeout: float = PDR_TIMEOUT,
-    earlier: bool = True,
+    earlier: bool = True, invariants: tuple[str, ...] = (),
 ) -> str | None:  # fmt: skip
     """Prove the design ``design_il`` (RTLIL, module ``top``) with the mutation ``command``
     equal to the original, the ROMs cut (``cut_roms``), in ``folder``: every matched named
@@ -670,9 +820,13 @@ def equivalence(
     only while the unit is idle, which the next start loads again.  Third: from reset, the
     outputs as ``contract`` defines them, by ABC's ``pdr`` (``_prove_from_reset``, given
     ``pdr_timeout`` seconds): what holds only in the states a reset leads to (a counter's
-    bound, a stage register read only while its valid bit is set); ``earlier`` = False: the
-    third alone (the others already failed on it).  The method's text, or None if none
-    proves it."""
+    bound, a stage register read only while its valid bit is set).  Fourth: the third with the
+    multipliers cut as well (``cut_products``: pdr then faces control and adders, not
+    products), then with ``invariants`` (Verilog over ``gold:wire`` and ``gate:wire``,
+    sim/mutation_invariants.py) asserted alongside the outputs, each try given ``pdr_timeout``
+    seconds: what pdr does not find by itself (each stage's registers equal in the two copies
+    while its valid bit is set).  ``earlier`` = False: the proofs from reset alone (the
+    others already failed on it).  The method's text, or None if none proves it."""
     if mutate_field(command, "port") in CLOCK_PORTS:
         # SAT steps every flip-flop on one clock: a clock mutation is out of its reach, unless
         # the cell never reads that clock
@@ -709,10 +863,18 @@ def equivalence(
             return f"sat -tempinduct (to {seq} cycles), the mutation's fanout matched while {BUSY}"
     if contract is None:
         return None
-    verdict = _prove_from_reset(folder, top, gold, gate, contract, pdr_timeout)
-    if verdict != "proven":
-        return None
-    return (
-        f"scorr and pdr from reset, the same power-up state: every output equal after reset, "
-        f"{', '.join(contract.data)} where defined"
-    )
+    outputs = f"every output equal after reset, {', '.join(contract.data)} where defined"
+    if _prove_from_reset(folder, top, gold, gate, contract, pdr_timeout) == "proven":
+        return f"scorr and pdr from reset, the same power-up state: {outputs}"
+    # the fourth: the multipliers cut too, then with the invariants asserted alongside
+    tries = [()] if product_cuts(gold) else []
+    tries += [invariants] if invariants else []
+    for given in tries:
+        verdict = _prove_from_reset(
+            folder, top, gold, gate, contract, pdr_timeout, products=True, invariants=given
+        )
+        if verdict == "proven":
+            cut = "ROMs and multipliers" if product_cuts(gold) else "ROMs"
+            also = f", with {len(given)} invariants proven alongside" if given else ""
+            return f"scorr and pdr from reset, {cut} cut{also}: {outputs}"
+    return None

@@ -8,7 +8,10 @@ mutant 0, the original, passes every check (``run_design`` stops otherwise), eve
 mutant is killed, by the check the record names, and the list Yosys makes now is the one the
 record was made from.  The docs' table is the record's.  The proof from reset
 (``mutation_proof.prove_from_reset``) finds a counterexample for a Gouraud mutant a check kills
-and proves the survivor of the other proofs the record says it proves.  Slow tier: every
+and proves the survivor of the other proofs the record says it proves; the fourth proof (the
+multipliers cut, then invariants asserted alongside) does the same on the specular unit's
+list, and an invariant the original breaks gives a counterexample.  Slow tier: the Gouraud
+unit's 174 proven with its invariants, and every
 mutant of every list the record does not prove equivalent through the checks (the specular
 unit's and the core's netlists take minutes to build, so they have no sample of their own),
 the same kills as the record and the rest its survivors.
@@ -21,7 +24,15 @@ from pathlib import Path
 
 import pytest
 
-from sim import mutation, mutation_checks, mutation_proof, mutation_report, units, vector_sets
+from sim import (
+    mutation,
+    mutation_checks,
+    mutation_invariants,
+    mutation_proof,
+    mutation_report,
+    units,
+    vector_sets,
+)
 from sim.runner import SIM_BUILD
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -243,3 +254,144 @@ def test_a_rom_port_at_a_constant_address_reads_its_word(tmp_path: Path) -> None
     (data,) = [ln for ln in cut.splitlines() if "connect" in ln and "mutation_rom0_data" in ln]
     # RD_DATA is { q0 q } (port 1, at address 0, then port 0): q0 the word 0x5a, q the input
     assert data.endswith("{ \\q0 \\q } { 8'01011010 \\mutation_rom0_data [7:0] }"), data
+
+
+# The fourth proof (from reset, the multipliers cut, then the invariants of
+# sim/mutation_invariants.py asserted alongside) on the specular unit's list: survivors of the
+# third it proves (65: the accumulator's bit 0 set while it holds, after the line's last pixel;
+# 263: the accumulator stepping once more after it, proven with the stage invariants) and a
+# mutant the committed set kills (3), a few seconds each
+CUT_PROVEN, STAGED_PROVEN, CUT_KILLED = 65, 263, 3
+
+
+@pytest.fixture(scope="module")
+def specular_list() -> mutation.Netlist:
+    return mutation.prepare(mutation.DESIGNS["specular_unit"], BUILD)
+
+
+def _fourth(net: mutation.Netlist, mutant: int, folder: Path, invariants: tuple[str, ...]) -> str:
+    design = net.design
+    command = net.mutations[mutant - 1].command
+    return mutation_proof.prove_from_reset(
+        folder, design.top, net.design_il, command, design.contract, 60, True, invariants
+    )
+
+
+def test_the_product_cut_proves_a_survivor_and_finds_a_killed_mutant_s_counterexample(
+    specular_list: mutation.Netlist, tmp_path: Path
+) -> None:
+    """With both multipliers cut (``cut_products``: the mutant's product is the original's
+    where their operands agree), pdr proves 65, which it left undecided through the
+    products, and still finds the trace from reset that tells 3 from the original."""
+    rec = _record()["designs"]["specular_unit"]
+    assert str(CUT_KILLED) in rec["killed_by"]
+    assert _fourth(specular_list, CUT_PROVEN, tmp_path / "proven", ()) == "proven"
+    assert _fourth(specular_list, CUT_KILLED, tmp_path / "killed", ()) == "failed"
+    for name in ("proven", "killed"):
+        miter = (tmp_path / name / "miter.v").read_text()
+        assert "gold_mutation_mul0_in == gate_mutation_mul0_in ?" in miter
+        assert "$mul" not in (tmp_path / name / "gold_reset.il").read_text()
+
+
+def test_the_stage_invariants_prove_a_survivor_and_find_a_killed_mutant_s_counterexample(
+    specular_list: mutation.Netlist, tmp_path: Path
+) -> None:
+    """The specular unit's stage invariants (each stage's registers equal in the two copies
+    while its valid bit is set), asserted with the outputs: 263, which pdr leaves undecided
+    without them, proven; 3 still fails."""
+    stages = mutation_invariants.DESIGN["specular_unit"]
+    assert _fourth(specular_list, STAGED_PROVEN, tmp_path / "proven", stages) == "proven"
+    assert _fourth(specular_list, CUT_KILLED, tmp_path / "killed", stages) == "failed"
+
+
+def test_an_invariant_is_proven_not_assumed(
+    specular_list: mutation.Netlist, tmp_path: Path
+) -> None:
+    """An invariant the original breaks (the accumulator 0 while a pixel is in stage S0) gives
+    a counterexample on a mutant the same proof proves without it: the invariants are
+    asserted, so a wrong one can never make a proof."""
+    wrong = ("!gold:v_reg[0] || gold:acc_reg == 40'd0",)
+    assert _fourth(specular_list, CUT_PROVEN, tmp_path / "wrong", wrong) == "failed"
+
+
+# The Gouraud unit's 174 (start_reg bit 8 flipped while its bit 23 is set), proven with its own
+# invariants (sim/mutation_invariants.py GOURAUD_CLAMPED, about 140 s of pdr: the slow tier)
+CLAMP_PROVEN = 174
+
+
+def test_the_clamp_invariants_prove_gouraud_174(
+    gouraud_list: mutation.Netlist, tmp_path: Path
+) -> None:
+    """174's invariants are found by its mutate command and prove it from reset."""
+    command = gouraud_list.mutations[CLAMP_PROVEN - 1].command
+    given = mutation_invariants.invariants("gouraud_segment", command)
+    assert given == mutation_invariants.GOURAUD_CLAMPED
+    design = gouraud_list.design
+    verdict = mutation_proof.prove_from_reset(
+        tmp_path, design.top, gouraud_list.design_il, command, design.contract, 300, True, given
+    )
+    assert verdict == "proven"
+
+
+def test_the_clamp_invariants_find_a_killed_mutant_s_counterexample(
+    gouraud_list: mutation.Netlist, tmp_path: Path
+) -> None:
+    """The same invariants on a mutant a soak kills (15): a counterexample."""
+    command = gouraud_list.mutations[FROM_RESET_KILLED - 1].command
+    design = gouraud_list.design
+    verdict = mutation_proof.prove_from_reset(
+        tmp_path, design.top, gouraud_list.design_il, command, design.contract, 60, True,
+        mutation_invariants.GOURAUD_CLAMPED,
+    )  # fmt: skip
+    assert verdict == "failed"
+
+
+def test_rounding_spans_put_every_quotient_near_a_rounding_point() -> None:
+    """The core's rounding spans (100 of them here): Gouraud only, 1024 to 2047 pixels, each
+    channel's quotient a x r within its window of a rounding point of dI, so a change of dI
+    by one LSB is one of the divider's, and a long span shows it in a pixel for nearly every
+    channel (the model's lines with dI and dI +- 1 compared)."""
+    import numpy as np
+
+    from model.render import core
+    from model.render.pipeline import increment_from_quotient
+    from model.units import divider, gouraud
+
+    cfg = mutation_checks.CORE_CONFIG
+    fmt = core.SpanFormat(cfg)
+    n = cfg.divider.recip_bits
+    shown = tried = 0
+    for word in mutation_checks.rounding_spans(count=100):
+        r = core.unpack(fmt.layout(), word)
+        assert not r["spec"] and not r["diff"] and 1023 <= r["l"] < cfg.gouraud.len_max
+        assert r["x"] + r["l"] + 1 <= 1 << fmt.x_width
+        for ch in range(core.CHANNELS):
+            start, end = r[f"i_start{ch}"], r[f"i_end{ch}"]
+            assert min(start, end) >= 0 and max(start, end) < 1 << cfg.gouraud.i_width
+            q = int(divider.divide(end - start, r["l"], cfg.divider))
+            assert abs(q % (1 << n) - (1 << (n - 1))) <= max(mutation_checks.ROUNDING_WINDOWS)
+            di = int(increment_from_quotient(np.array([q]), cfg)[0])
+            line = gouraud.shade_line(start, di, r["l"] + 1, cfg.gouraud)
+            for step in (-1, 1):
+                tried += 1
+                moved = gouraud.shade_line(start, di + step, r["l"] + 1, cfg.gouraud)
+                shown += bool((moved != line).any())
+    assert shown >= 0.95 * tried, f"{shown} of {tried}"
+
+
+def test_table_highlight_spans_light_every_table() -> None:
+    """The per-table highlight spans: n from each k range in about a quarter of them (400
+    here), where n uniform in 1..1000 gives the first three tables 6 spans in 1000."""
+    from collections import Counter
+
+    from model.render import core
+
+    cfg = mutation_checks.CORE_CONFIG
+    fmt = core.SpanFormat(cfg)
+    ranges = cfg.specular.k_ranges
+    words = mutation_checks.highlight_spans(400, 1, per_table=True)
+    tables = Counter(
+        next(j for j, (lo, hi, _) in enumerate(ranges) if lo <= r["n"] <= hi)
+        for r in (core.unpack(fmt.layout(), w) for w in words)
+    )
+    assert all(70 <= tables[j] <= 130 for j in range(len(ranges))), tables

@@ -145,6 +145,11 @@ SLOW: dict[str, str] = {
         "the core's build and runs take minutes); quick: test_sampled_mutants_are_killed, 12 a "
         "design"
     ),
+    "tests/test_mutation.py::test_the_clamp_invariants_prove_gouraud_174": (
+        "pdr proves the Gouraud mutant 174 with its invariants in about 140 s; quick: "
+        "test_the_stage_invariants_prove_a_survivor_and_find_a_killed_mutant_s_counterexample "
+        "(the same proof with the specular unit's invariants, a few seconds)"
+    ),
     # -- second simulator runs of checks the quick tier makes under Icarus
     "tests/test_vectors.py::test_timed_replay_of_a_generated_stimulus[verilator]": (
         "a Verilator build of every unit (45 s); quick: the Icarus run"
