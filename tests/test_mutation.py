@@ -20,6 +20,7 @@ the same kills as the record and the rest its survivors.
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import pytest
@@ -38,8 +39,10 @@ from sim.runner import SIM_BUILD
 ROOT = Path(__file__).resolve().parent.parent
 DOC = ROOT / "docs" / "verification.md"
 SAMPLE = 12
-# builds kept between runs (the netlists are the same while the RTL is: a cache hit)
-BUILD = SIM_BUILD / "mutants"
+# builds kept between runs (the netlists are the same while the RTL is: a cache hit), one
+# folder per pytest-xdist worker: ``mutation.prepare`` writes a design's folder afresh, so two
+# workers preparing the same design in one folder would delete each other's files
+BUILD = SIM_BUILD / "mutants" / os.environ.get("PYTEST_XDIST_WORKER", "main")
 
 
 def _record() -> dict:
