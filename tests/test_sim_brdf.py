@@ -110,3 +110,26 @@ def test_bench_fails_on_the_log2_octave_bit_mutant(request) -> None:
     errors = [e for r in records for e in r["first_errors"]]
     assert sum(r["errors"] for r in records) > 0 and errors, records
     assert all("mismatch" in e and "'intensity'" in e and "reproduce with" in e for e in errors)
+
+
+@pytest.mark.parametrize(
+    ("mutant", "replaces"),
+    [("brdf_div_no_restore", "brdf_div.v"), ("brdf_piecewise_gate_stage", "brdf_piecewise.v")],
+)
+def test_bench_fails_on_the_piecewise_mutants(request, mutant: str, replaces: str) -> None:
+    """The piecewise form's divider without its restoring step, and its dividend gated by the
+    next pixel's branch (the file replaced by the mutant): the bench fails, every error it
+    reports is an intensity mismatch of a named job."""
+    records = _run(
+        "piecewise",
+        0,
+        build=f"_{mutant}",
+        testcase=["test_extremes"],
+        rtl=mutants.build(mutant, SIM_BUILD / "mutants"),
+        replaces=replaces,
+        expect_failure=True,
+    )
+    record_sim(request, records)
+    errors = [e for r in records for e in r["first_errors"]]
+    assert sum(r["errors"] for r in records) > 0 and errors, records
+    assert all("mismatch" in e and "'intensity'" in e and "reproduce with" in e for e in errors)
