@@ -8,8 +8,9 @@
  * synchronous, active low).
  *
  * Checks (at elaboration, each an instance of a module that does not exist, named after the
- * rule): WIDTH at least 1 (brdf_delay_PARAMETER_ERROR_WIDTH_must_be_at_least_1), DEPTH at least
- * 0 (brdf_delay_PARAMETER_ERROR_DEPTH_must_be_at_least_0), RESET_ALL 0 or 1
+ * rule): WIDTH at least 1 (brdf_delay_PARAMETER_ERROR_WIDTH_must_be_at_least_1), DEPTH 0..64
+ * (brdf_delay_PARAMETER_ERROR_DEPTH_must_be_0_to_64: a longer line belongs in a RAM; the
+ * piecewise datapath's are at most 25), RESET_ALL 0 or 1
  * (brdf_delay_PARAMETER_ERROR_RESET_ALL_must_be_0_or_1).
  *
  * Sources: this file; instantiated by rtl/brdf_piecewise.v (rtl/brdf_unit.f).
@@ -22,7 +23,7 @@
 module brdf_delay #(
     // Bits of x and y
     parameter WIDTH = 1,
-    // Clock edges from x to y (0: a wire)
+    // Clock edges from x to y (0: a wire), 0..64
     parameter DEPTH = 1,
     // 0: no register here is reset; 1: rst_n resets every one
     parameter RESET_ALL = 0
@@ -37,8 +38,8 @@ generate
     if (WIDTH < 1) begin : g_check_width
         brdf_delay_PARAMETER_ERROR_WIDTH_must_be_at_least_1 u_error ();
     end
-    if (DEPTH < 0) begin : g_check_depth
-        brdf_delay_PARAMETER_ERROR_DEPTH_must_be_at_least_0 u_error ();
+    if (DEPTH < 0 || DEPTH > 64) begin : g_check_depth
+        brdf_delay_PARAMETER_ERROR_DEPTH_must_be_0_to_64 u_error ();
     end
     if (RESET_ALL != 0 && RESET_ALL != 1) begin : g_check_reset_all
         brdf_delay_PARAMETER_ERROR_RESET_ALL_must_be_0_or_1 u_error ();
@@ -51,7 +52,7 @@ generate
         // verilator lint_off UNUSEDSIGNAL
         wire unused_clk = &{1'b0, clk, rst_n};
         // verilator lint_on UNUSEDSIGNAL
-    end else begin : g_line
+    end else if (DEPTH <= 64) begin : g_line
         // Stage s at [s*WIDTH +: WIDTH]: x of s + 1 edges ago
         reg [DEPTH*WIDTH-1:0] line_reg;
         integer s;

@@ -21,7 +21,8 @@
  * synchronous, active low).
  *
  * Checks (at elaboration, each an instance of a module that does not exist, named after the
- * rule): X_WIDTH, Y_WIDTH 1..64 (brdf_div_PARAMETER_ERROR_X_WIDTH_and_Y_WIDTH_must_be_1_to_64),
+ * rule): X_WIDTH and Y_WIDTH at least 1
+ * (brdf_div_PARAMETER_ERROR_X_WIDTH_and_Y_WIDTH_must_be_at_least_1),
  * Q_BITS 1..X_WIDTH (brdf_div_PARAMETER_ERROR_Q_BITS_must_be_1_to_X_WIDTH), X_WIDTH at most
  * Y_WIDTH + Q_BITS (brdf_div_PARAMETER_ERROR_X_WIDTH_must_be_at_most_Y_WIDTH_plus_Q_BITS),
  * RESET_ALL 0 or 1 (brdf_div_PARAMETER_ERROR_RESET_ALL_must_be_0_or_1); tested in
@@ -52,14 +53,19 @@ module brdf_div #(
     output wire [Q_BITS-1:0]  q
 );
 
+// Each rule is checked once the ones before it hold (one message for one mistake)
+localparam BAD_WIDTH = (X_WIDTH < 1 || Y_WIDTH < 1);
+localparam BAD_Q_BITS = !BAD_WIDTH && (Q_BITS < 1 || Q_BITS > X_WIDTH);
+localparam BAD_X_WIDTH = !BAD_WIDTH && !BAD_Q_BITS && X_WIDTH > Y_WIDTH + Q_BITS;
+
 generate
-    if (X_WIDTH < 1 || X_WIDTH > 64 || Y_WIDTH < 1 || Y_WIDTH > 64) begin : g_check_width
-        brdf_div_PARAMETER_ERROR_X_WIDTH_and_Y_WIDTH_must_be_1_to_64 u_error ();
+    if (BAD_WIDTH) begin : g_check_width
+        brdf_div_PARAMETER_ERROR_X_WIDTH_and_Y_WIDTH_must_be_at_least_1 u_error ();
     end
-    if (Q_BITS < 1 || Q_BITS > X_WIDTH) begin : g_check_q_bits
+    if (BAD_Q_BITS) begin : g_check_q_bits
         brdf_div_PARAMETER_ERROR_Q_BITS_must_be_1_to_X_WIDTH u_error ();
     end
-    if (X_WIDTH > Y_WIDTH + Q_BITS) begin : g_check_x_width
+    if (BAD_X_WIDTH) begin : g_check_x_width
         brdf_div_PARAMETER_ERROR_X_WIDTH_must_be_at_most_Y_WIDTH_plus_Q_BITS u_error ();
     end
     if (RESET_ALL != 0 && RESET_ALL != 1) begin : g_check_reset_all

@@ -134,7 +134,8 @@ def test_wrapper_reads_the_ports_from_the_rtl() -> None:
         (("gouraud_segment", divider.DEFAULT, "hx8k"), ["DividerConfig", "GouraudConfig"]),
         (("brdf_unit", "default", "hx8k"), ["'default'", "cosine_quadratic, quadratic"]),
         (("brdf_unit", divider.DEFAULT, "hx8k"), ["DividerConfig", "FixedConfig"]),
-        (("brdf_unit", brdf.FixedConfig("piecewise"), "hx8k"), ["'piecewise'", "RTL"]),
+        (("brdf_unit", brdf.FixedConfig("piecewise", coef_bits=22), "hx8k"),
+         ["coef_bits = 22", "11..21"]),
     ],
 )
 def test_bad_input_is_refused(args: tuple, words: list[str]) -> None:
