@@ -60,9 +60,10 @@
  *   s(LATENCY) y: the quotient rounded and saturated (7) or the cubic's word (its s13), by the
  *             branch flag; LATENCY = max(14, O + 8) (model.units.brdf.form_latency): the cubic's
  *             word waits O - 6 edges, or for O < 6 the quotient waits 6 - O.
- * k is the running line's constant (loaded at a start, seven edges before its line's first w):
- * s2 rounded to P fraction bits is registered from it in s2r_reg (no rounding adds to den's
- * adder).  Reset: none of these registers is control state; RESET_ALL = 1 resets them all
+ * k is the running line's constant (loaded at a start, seven edges before its line's first w;
+ * the next start comes only after the line's last result): s2 rounded to P fraction bits is
+ * registered from it in s2r_reg (no rounding adds to den's adder), beta in beta_reg (so that
+ * the multiplier's operand comes from a register placed beside it).  Reset: none of these registers is control state; RESET_ALL = 1 resets them all
  * (rst_n is synchronous, active low).
  *
  * Checks: a COEF_BITS outside 11..21 (r needs 11 integer bits, three coefficients fill a ROM
@@ -160,8 +161,10 @@ reg                 bloom6_reg;
 reg [D:0]           num_reg;
 reg [DEN_WIDTH-1:0] den_reg;
 reg [O-1:0]         y_reg;
-// The line's s2 rounded to P fraction bits (from k, every clock)
+// The line's s2 rounded to P fraction bits and its beta (from k, every clock: the multiplier
+// reads a register of its own, which the placer puts beside it)
 reg [P+1:0]         s2r_reg;
+reg [C-1:0]         beta_reg;
 
 assign y = y_reg;
 
@@ -210,11 +213,12 @@ brdf_mul #(
     .A_WIDTH(C),
     .B_WIDTH(RWB_WIDTH),
     .SIGNED(0),
+    .SPLIT_A(0),  // beta whole: 2 multiplier blocks, not 4 (rtl/brdf_mul.v)
     .RESET_ALL(RESET_ALL)
 ) u_bp (
     .clk(clk),
     .rst_n(rst_n),
-    .a(beta_k),
+    .a(beta_reg),
     .b(rwb_reg),
     .p(prod_bp)
 );
@@ -343,6 +347,7 @@ always @(posedge clk) begin
     den_reg <= den_next;
     y_reg <= y_next;
     s2r_reg <= s2r_next;
+    beta_reg <= beta_k;
 
     if (RESET_ALL != 0 && !rst_n) begin
         c1_reg <= {(D+1){1'b0}};
@@ -359,6 +364,7 @@ always @(posedge clk) begin
         den_reg <= {DEN_WIDTH{1'b0}};
         y_reg <= {O{1'b0}};
         s2r_reg <= {(P+2){1'b0}};
+        beta_reg <= {C{1'b0}};
     end
 end
 

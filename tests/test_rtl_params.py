@@ -757,8 +757,10 @@ def test_icarus_message_names_the_rule(tmp_path: Path) -> None:
 
 # The piecewise form's own modules, elaborated alone (no model dataclass maps to them: their
 # parameters are derived by rtl/brdf_piecewise.v, which the unit's cases above reach), each
-# parameter at its ends and one step beyond: (module, its sources, parameters, rule or None)
+# parameter at its ends and one step beyond, and brdf_mul's SPLIT_A, which the form brought:
+# (module, parameters, rule or None); MODULE_SOURCES gives each module's files
 MODULE_SOURCES = {
+    "brdf_mul": ["brdf_mul.v"],
     "brdf_div": ["brdf_div.v"],
     "brdf_delay": ["brdf_delay.v"],
     "brdf_piecewise": [
@@ -792,6 +794,11 @@ MODULE_CASES = [
     ("brdf_piecewise", {"COEF_BITS": 21}, None),
     ("brdf_piecewise", {"COEF_BITS": 10}, "COEF_BITS_must_be_11_to_21"),
     ("brdf_piecewise", {"COEF_BITS": 22}, "COEF_BITS_must_be_11_to_21"),
+    ("brdf_mul", {"A_WIDTH": 18, "B_WIDTH": 35, "SPLIT_A": 0}, None),
+    ("brdf_mul", {"A_WIDTH": 18, "B_WIDTH": 35, "SPLIT_A": 0, "RESET_ALL": 1}, None),
+    ("brdf_mul", {"SPLIT_A": 1, "SIGNED": 1}, None),
+    ("brdf_mul", {"SPLIT_A": 2}, "SPLIT_A_must_be_0_or_1"),
+    ("brdf_mul", {"SPLIT_A": 0, "SIGNED": 1}, "SPLIT_A_0_needs_SIGNED_0"),
 ]  # fmt: skip
 
 
@@ -813,8 +820,9 @@ def _elaborate_module(tool: str, module: str, params: dict[str, int], work: Path
 
 
 def test_the_piecewise_modules_refuse_their_bad_parameters(tmp_path: Path) -> None:
-    """rtl/brdf_div.v, rtl/brdf_delay.v and rtl/brdf_piecewise.v alone: each tool accepts every
-    legal set lint-clean and refuses every other with a non-zero exit naming the rule."""
+    """rtl/brdf_div.v, rtl/brdf_delay.v, rtl/brdf_piecewise.v and brdf_mul.v's SPLIT_A alone:
+    each tool accepts every legal set lint-clean and refuses every other with a non-zero exit
+    naming the rule."""
     missing = [t for t in TOOLS if not INSTALLED[t]]
     assert not missing, f"not installed: {', '.join(missing)}"
     jobs = [(tool, i) for tool in TOOLS for i in range(len(MODULE_CASES))]
