@@ -338,9 +338,7 @@ def test_timing(name: str) -> None:
     the rounding), 24 for the piecewise (6 to the divider, its 17 quotient bits, the select);
     the bench holds the RTL to them in every cycle."""
     cfg = brdf.UNIT_CONFIGS[name]
-    fill = {"cosine_quadratic": 12, "quadratic": 13, "cubic": 20, "log2": 14, "piecewise": 31}[
-        name
-    ]
+    fill = {"cosine_quadratic": 12, "quadratic": 13, "cubic": 20, "log2": 14, "piecewise": 31}[name]
     assert brdf.FRONT_STAGES + brdf.FORM_LATENCY[name] == brdf.fill_latency(cfg) == fill
     assert brdf.form_latency(cfg) == brdf.FORM_LATENCY[name]
     assert brdf.cycles(0, cfg) == fill and brdf.cycles(2047, cfg) == fill + 2047
