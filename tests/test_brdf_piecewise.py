@@ -99,3 +99,12 @@ def test_the_divider_rounds_as_the_model() -> None:
     for y in range(1, 40):
         for x in range(0, 4 * y):
             assert (2 * x + y) // (2 * y) == ((2 * x) // y + 1) >> 1, (x, y)
+
+
+def test_the_bloom_part_falls_slower_than_cos_n() -> None:
+    """docs/scenes.md, method (m): at n = 40 (the teapot's), where cos^n is 0.01, the piecewise
+    form's bloom part c / (alpha - beta c) is still 0.0979; at the junction both are 1/2."""
+    n = 40
+    at = np.arccos(np.array([0.01 ** (1 / n), 0.5 ** (1 / n)]))
+    bloom, junction = brdf.approximate("piecewise", at, n)
+    assert f"{bloom:.4f}" == "0.0979" and junction == pytest.approx(0.5, abs=1e-12)
