@@ -87,8 +87,17 @@ MUTANTS = {
     ),
     "brdf_unit_cubic_b_word": Mutant(
         "brdf_unit_cubic_b_word",
-        "            .addr_b({n_addr, 1'b1}),\n",
-        "            .addr_b({n_addr, 1'b0}),  // MUTANT: {r, p0} read as {b1, b2}\n",
+        # the cubic's port B (the piecewise form's ROM, next, has the same lines)
+        "            .addr_b({n_addr, 1'b1}),\n"
+        "            .q_b(coef_lo)\n"
+        "        );\n"
+        "        assign k_word = {coef_hi, coef_lo};\n"
+        "    end else if (IS_PIECEWISE) begin : g_coef_rom_piecewise\n",
+        "            .addr_b({n_addr, 1'b0}),  // MUTANT: {r, p0} read as {b1, b2}\n"
+        "            .q_b(coef_lo)\n"
+        "        );\n"
+        "        assign k_word = {coef_hi, coef_lo};\n"
+        "    end else if (IS_PIECEWISE) begin : g_coef_rom_piecewise\n",
         unit="brdf_unit",
     ),
     "brdf_log2_octave_bit": Mutant(
