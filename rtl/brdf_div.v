@@ -6,13 +6,13 @@
  *
  * Precondition: x < y 2^Q_BITS (so y > 0 and the quotient has Q_BITS bits); the caller proves
  * it.  Under it nothing here wraps:
- *   t0 = x >> Q_BITS < y fits Y_WIDTH bits (X_WIDTH <= Y_WIDTH + Q_BITS: the bits of x above
- *   are 0 under the precondition and are not read);
+ *   t0 = x >> Q_BITS < y fits Y_WIDTH bits (x has at most Y_WIDTH + Q_BITS bits: checked);
  *   stage j, for quotient bit i = Q_BITS - 1 - j, holds the partial remainder t = floor(x / 2^(i
  *   + 1)) - y floor(q / 2^(i + 1)) < y (Y_WIDTH bits) and the dividend bits still to come;
  *   it forms u = 2 t + x[i] < 2 y (Y_WIDTH + 1 bits), compares with y (u - y in [-y, y): Y_WIDTH
  *   + 1 bits signed, its sign the borrow), and keeps u - y (below y) with quotient bit 1 or u
- *   (below y) with 0: the restoring step.  After the last stage the bits are q = floor(x / y), the last remainder unused.
+ *   (below y) with 0: the restoring step.  After the last stage the bits are q = floor(x / y),
+ *   the last remainder unused.
  * The dividend bits still to come and the quotient bits so far share one Q_BITS-bit register
  * per stage (the classic shift register: a dividend bit leaves at the top as a quotient bit
  * enters at the bottom); y rides along with its dividend.

@@ -21,7 +21,7 @@
  * coefficients per n.
  *
  * Widths, proven here for every word of those formats (and checked on the model's table where
- * a bound needs the table: tests/test_brdf_unit.py, test_piecewise_widths_hold_on_the_table):
+ * a bound needs the table: tests/test_brdf_piecewise.py, every n and every table word):
  *  1. rw <= 2^(P+11): r < 2^11 and w <= 1, rounded.  rw - 2^P lies in [-2^P, 2^(P+11) - 2^P]:
  *     RWM_WIDTH = P + 12 bits signed hold it, its sign is the branch (1: rw < 2^P, the cubic);
  *     in the bloom branch 0 <= rw - 2^P < 2^(P+11): its P + 11 low bits, unsigned.  It is one
@@ -43,7 +43,9 @@
  *     shifted: no adder) by den', and its precondition 2 num < den' 2^(O+1) holds by 5:
  *     a < 2^(O+1), the O + 1 quotient bits Q_BITS are the only ones that can be 1 (bit O is 1
  *     when c / den >= 1/2: at the junction the bloom part is 1/2, and the rounding of the
- *     words can take it past).  In the cubic branch the dividend is gated to 0: the
+ *     words can take it past: never at the default widths, but with 11-bit coefficients,
+ *     whose s2 rounds low, as the test measures).  In the cubic branch the dividend is gated
+ *     to 0: the
  *     precondition holds for every pixel (den > 0 by 4) and the quotient 0 is discarded.
  *  7. (a + 1) >> 1 <= 2^O, equal only for a = 2^(O+1) - 1, which saturates to 2^O - 1 = a >> 1:
  *     q = a[O:1] + (a[0] & ~&a[O:1]), an O-bit incrementer that never carries out.
@@ -54,7 +56,7 @@
  * Pipeline (one pixel per clock; s<e> is the register written at the e-th edge after w):
  *   s1, s2    r * w (in the cubic instance), c1 = 2^D - w, c2
  *   s3        rw - 2^P in one adder (the rounding half and -2^P one constant) and its sign
- *   s4, s5    beta * (rw - 2^P) (rtl/brdf_mul.v)
+ *   s4, s5    beta * (rw - 2^P) (rtl/brdf_mul.v, beta whole: SPLIT_A = 0, two blocks)
  *   s6        den, and num = c (0 in the cubic branch)
  *   s7 ..     the divider, one stage per quotient bit: a after s(O + 7)
  *   s(LATENCY) y: the quotient rounded and saturated (7) or the cubic's word (its s13), by the
@@ -63,8 +65,9 @@
  * k is the running line's constant (loaded at a start, seven edges before its line's first w;
  * the next start comes only after the line's last result): s2 rounded to P fraction bits is
  * registered from it in s2r_reg (no rounding adds to den's adder), beta in beta_reg (so that
- * the multiplier's operand comes from a register placed beside it).  Reset: none of these registers is control state; RESET_ALL = 1 resets them all
- * (rst_n is synchronous, active low).
+ * the multiplier's operand comes from a register placed beside it).  Reset: none of these
+ * registers is control state; RESET_ALL = 1 resets them all (rst_n is synchronous, active
+ * low).
  *
  * Checks: a COEF_BITS outside 11..21 (r needs 11 integer bits, three coefficients fill a ROM
  * word of at most 64 bits) is refused at elaboration, by an instance of the module

@@ -34,8 +34,8 @@
  * the overflow flag, S5 w (the overflow gate on the registered table word), then the form's
  * stages (5 for the cosine-quadratic, 6 for the quadratic, 7 for the log2, 13 for the cubic:
  * each wide product in two, rtl/brdf_mul.v; the piecewise form's max(14, OUT_BITS + 8), one
- * stage per quotient bit of its divider), then C * F (F gated to 0 for an n outside 1..1000) and rounding +
- * saturation -> output.  After the edge that accepts start, busy is high for F + l cycles and
+ * stage per quotient bit of its divider), then C * F (F gated to 0 for an n outside 1..1000)
+ * and rounding + saturation -> output.  After the edge that accepts start, busy is high for F + l cycles and
  * valid is high in cycles F .. F + l, F = 7 + FORM_LATENCY (the last one together with busy =
  * 0, when a new start is already accepted): model.units.brdf.cycles and valid_offsets.
  *
@@ -53,9 +53,10 @@
  * Checks: a parameter set model.units.brdf refuses (FixedConfig, and check_unit: the
  * quadratic's, the cubic's and the piecewise form's coefficient width, the cubic's and the
  * piecewise form's product widths) is refused at elaboration (an instance of a module that does
- * not exist, named after the rule, e.g. brdf_unit_PARAMETER_ERROR_COEF_BITS_must_be_4_to_32).  In simulation every table image is checked
- * at time 0 by the ROM module (rtl/shading_rom.v): a missing, short, malformed or
- * wrong-configuration file ends the run with a message and a non-zero exit status.
+ * not exist, named after the rule, e.g. brdf_unit_PARAMETER_ERROR_COEF_BITS_must_be_4_to_32).
+ * In simulation every table image is checked at time 0 by the ROM module (rtl/shading_rom.v):
+ * a missing, short, malformed or wrong-configuration file ends the run with a message and a
+ * non-zero exit status.
  *
  * Sources: this file, rtl/brdf_cosine_quadratic.v, rtl/brdf_quadratic.v, rtl/brdf_cubic.v,
  * rtl/brdf_log2.v, rtl/brdf_piecewise.v, rtl/brdf_div.v, rtl/brdf_delay.v, rtl/brdf_mul.v,
