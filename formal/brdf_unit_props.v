@@ -13,7 +13,8 @@
  *   f_job_len, f_job_nerr   the running line's l and n error (the values held *before* the
  *                       start cycle's writes);
  *   f_left              busy cycles still to come: FILL + l at an accepted start, FILL = 12
- *                       (cosine-quadratic), 13 (quadratic), 20 (cubic) or 14 (log2)
+ *                       (cosine-quadratic), 13 (quadratic), 20 (cubic), 14 (log2) or
+ *                       7 + max(14, OUT_BITS + 8) (piecewise: 31 at its default widths)
  *                       (model.units.brdf.cycles);
  *   f_valid, f_nerr_out the expected valid (offsets FILL..FILL+l after the start edge) and
  *                       n_err.
@@ -71,19 +72,24 @@ module brdf_unit_formal #(
 );
 
 // model.units.brdf.fill_latency: 7 front stages + the form's 5 (cosine-quadratic), 6
-// (quadratic), 13 (cubic) or 7 (log2)
+// (quadratic), 13 (cubic), 7 (log2) or max(14, OUT_BITS + 8) (piecewise: its divider takes
+// one stage per quotient bit)
 localparam [8*16-1:0] FORM_QUADRATIC = "quadratic";
 localparam [8*16-1:0] FORM_CUBIC = "cubic";
 localparam [8*16-1:0] FORM_LOG2 = "log2";
+localparam [8*16-1:0] FORM_PIECEWISE = "piecewise";
 localparam FILL_COSINE_QUADRATIC = 12;
 localparam FILL_QUADRATIC = 13;
 localparam FILL_CUBIC = 20;
 localparam FILL_LOG2 = 14;
+localparam FILL_PIECEWISE = 7 + ((OUT_BITS + 8 > 14) ? OUT_BITS + 8 : 14);
 localparam FILL = (FORM == FORM_QUADRATIC) ? FILL_QUADRATIC
                 : (FORM == FORM_CUBIC) ? FILL_CUBIC
-                : (FORM == FORM_LOG2) ? FILL_LOG2 : FILL_COSINE_QUADRATIC;
+                : (FORM == FORM_LOG2) ? FILL_LOG2
+                : (FORM == FORM_PIECEWISE) ? FILL_PIECEWISE : FILL_COSINE_QUADRATIC;
 localparam LAST_STAGE = FILL - 1;
-localparam L_WIDTH = LEN_WIDTH + 2;  // f_left: up to FILL + 2^LEN_WIDTH - 1 (LEN_WIDTH >= 3)
+// f_left: up to FILL + 2^LEN_WIDTH - 1 (LEN_WIDTH >= 4: FILL is at most 39)
+localparam L_WIDTH = LEN_WIDTH + 2;
 
 // Property numbers (CHECK selects one)
 localparam P_BUSY_EXACT = 1;

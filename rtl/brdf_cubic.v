@@ -32,12 +32,17 @@
  * or q's adder.  Reset: none of these registers is control state; RESET_ALL = 1 resets them
  * all (rst_n is synchronous, active low).
  *
+ * Shared: rw_prod is the product r * w, exact (RW_WIDTH = COEF_BITS + COS_DATA_BITS + 1 bits,
+ * R_FRAC + D fraction bits), two edges after w: the piecewise form's bloom part
+ * (rtl/brdf_piecewise.v, which instantiates this module) rounds it its own way; the cubic form
+ * leaves it unread.
+ *
  * Checks: a COEF_BITS below 11 (r needs 11 integer bits) is refused at elaboration, by an
  * instance of the module brdf_cubic_PARAMETER_ERROR_COEF_BITS_must_be_at_least_11, which does
  * not exist (rtl/brdf_unit.v refuses it first, by the unit's rule).
  *
- * Sources: this file, rtl/brdf_mul.v and rtl/brdf_round.v; instantiated by rtl/brdf_unit.v
- * (rtl/brdf_unit.f).  Documentation: docs/brdf_unit.md.
+ * Sources: this file, rtl/brdf_mul.v and rtl/brdf_round.v; instantiated by rtl/brdf_unit.v and
+ * rtl/brdf_piecewise.v (rtl/brdf_unit.f).  Documentation: docs/brdf_unit.md.
  */
 
 `resetall
@@ -60,7 +65,8 @@ module brdf_cubic #(
     input  wire                     rst_n,
     input  wire [COS_DATA_BITS:0]   w,
     input  wire [4*COEF_BITS-1:0]   k,
-    output wire [OUT_BITS-1:0]      y
+    output wire [OUT_BITS-1:0]      y,
+    output wire [COEF_BITS+COS_DATA_BITS:0] rw_prod
 );
 
 localparam D = COS_DATA_BITS;
@@ -131,6 +137,8 @@ assign y = y_reg;
 
 // ---------------------------------------------------------------- s1..s3: rw = r w, rounded
 wire [RW_WIDTH-1:0] prod_rw;
+
+assign rw_prod = prod_rw;
 
 brdf_mul #(
     .A_WIDTH(C),

@@ -12,16 +12,22 @@
  * partial products al bh and ah bl are signed (al and bl get a 0 above them: one more bit, 14 x
  * 13 for 25-bit operands) and ah bh is; each is sign-extended to the product's width and the sum
  * taken modulo 2^(A_WIDTH + B_WIDTH), which holds the exact signed product.
+ * SPLIT_A = 0 (unsigned only): a is not split, only b: two partial products a bl and a bh, two
+ * blocks where an unsigned a of at most 18 bits is one block's operand (ECP5, Gowin: the
+ * piecewise form's beta x (r w - 1), 18 x 18 and 18 x 17 at its default widths, two blocks
+ * instead of four).
  *
  * Reset: none of these registers is control state; RESET_ALL = 1 resets them all (rst_n is
  * synchronous, active low).
  *
  * Checks: an operand narrower than 2 bits (no halves) is refused at elaboration, by an instance
  * of the module brdf_mul_PARAMETER_ERROR_A_WIDTH_and_B_WIDTH_must_be_at_least_2, which does
- * not exist; so is a SIGNED other than 0 or 1 (brdf_mul_PARAMETER_ERROR_SIGNED_must_be_0_or_1).
+ * not exist; so is a SIGNED other than 0 or 1 (brdf_mul_PARAMETER_ERROR_SIGNED_must_be_0_or_1),
+ * a SPLIT_A other than 0 or 1 (brdf_mul_PARAMETER_ERROR_SPLIT_A_must_be_0_or_1) and SPLIT_A = 0
+ * with SIGNED = 1 (brdf_mul_PARAMETER_ERROR_SPLIT_A_0_needs_SIGNED_0).
  *
- * Sources: this file; instantiated by rtl/brdf_cosine_quadratic.v, rtl/brdf_quadratic.v and
- * rtl/brdf_cubic.v (rtl/brdf_unit.f).  Documentation: docs/brdf_unit.md.
+ * Sources: this file; instantiated by rtl/brdf_cosine_quadratic.v, rtl/brdf_quadratic.v,
+ * rtl/brdf_cubic.v and rtl/brdf_piecewise.v (rtl/brdf_unit.f).  Documentation: docs/brdf_unit.md.
  */
 
 `resetall
@@ -35,6 +41,8 @@ module brdf_mul #(
     parameter B_WIDTH = 25,
     // 0: a, b and p unsigned; 1: all three two's complement
     parameter SIGNED = 0,
+    // 1: a in halves as b is (four partial products); 0: a whole (two; SIGNED = 0 only)
+    parameter SPLIT_A = 1,
     // 0: no register here is reset; 1: rst_n resets every one
     parameter RESET_ALL = 0
 ) (
@@ -60,6 +68,12 @@ endgenerate
 generate
     if (SIGNED != 0 && SIGNED != 1) begin : g_check_signed
         brdf_mul_PARAMETER_ERROR_SIGNED_must_be_0_or_1 u_error ();
+    end
+    if (SPLIT_A != 0 && SPLIT_A != 1) begin : g_check_split_a
+        brdf_mul_PARAMETER_ERROR_SPLIT_A_must_be_0_or_1 u_error ();
+    end
+    if (SPLIT_A == 0 && SIGNED == 1) begin : g_check_split_signed
+        brdf_mul_PARAMETER_ERROR_SPLIT_A_0_needs_SIGNED_0 u_error ();
     end
 endgenerate
 
@@ -92,6 +106,24 @@ generate
                 lh_reg <= {(AL+BH+1){1'b0}};
                 hl_reg <= {(AH+BL+1){1'b0}};
                 hh_reg <= {(AH+BH){1'b0}};
+                p_reg <= {W{1'b0}};
+            end
+        end
+    end else if (SPLIT_A == 0) begin : g_unsigned_a_whole
+        // Stage 1: a bl and a bh; stage 2: their sum (each fits W bits: the exact product)
+        reg [A_WIDTH+BL-1:0] l_reg;
+        reg [A_WIDTH+BH-1:0] h_reg;
+        wire [W-1:0] l_w = {{BH{1'b0}}, l_reg};
+        wire [W-1:0] h_w = {{BL{1'b0}}, h_reg} << BL;
+
+        always @(posedge clk) begin
+            l_reg <= a * b[BL-1:0];
+            h_reg <= a * b[B_WIDTH-1:BL];
+            p_reg <= l_w + h_w;
+
+            if (RESET_ALL != 0 && !rst_n) begin
+                l_reg <= {(A_WIDTH+BL){1'b0}};
+                h_reg <= {(A_WIDTH+BH){1'b0}};
                 p_reg <= {W{1'b0}};
             end
         end

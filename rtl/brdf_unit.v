@@ -4,7 +4,8 @@
  * pixel along a scan line, zeta(0) = z0, zeta(i) = zeta(i-1) + dz, for the l + 1 pixels of a
  * line of l intervals, F one of the thesis's approximations of cos^n chosen by FORM
  * ("cosine_quadratic": (1 - (7n/16)(1 - cos))^2, "quadratic": a cos^2 + (1 - a) cos, "cubic":
- * c P(c), P a cubic about the match point in tau = 1 - r w, "log2": 2^(n log2 cos) as
+ * c P(c), P a cubic about the match point in tau = 1 - r w, "piecewise": the cubic where
+ * tau > 0, the bloom part c / (alpha - beta c) beyond, "log2": 2^(n log2 cos) as
  * 1 - log2(1 + n (-log2 cos)) / 2).  Every result equals model.units.brdf.unit_line() bit for
  * bit.
  *
@@ -20,8 +21,9 @@
  * |zeta|, the angle-table address (|zeta| rounded to COS_ADDR_BITS fraction bits of pi/2, add
  * half, slice; an address of 2^COS_ADDR_BITS or more is pi/2 or beyond and reads as
  * w = 2^COS_DATA_BITS, cos = 0), the angle table (w = 1 - cos, synchronous read; the log2
- * form's holds -log2 cos), for the quadratic and cubic forms the coefficient table (a, or
- * r p0 b1 b2, per n, read when n is written, like ROM 9), for the log2 form its second table
+ * form's holds -log2 cos), for the quadratic, cubic and piecewise forms the coefficient table
+ * (a, r p0 b1 b2, or r p0 b1 b2 s2 beta, per n, read when n is written, like ROM 9), for the
+ * log2 form its second table
  * (log2(1 + f), read in its pipeline), the form's datapath (rtl/brdf_<form>.v: the output word
  * F in OUT_BITS fraction bits), then C * F rounded to the output LSB and saturated (as
  * multiplier 13 is).
@@ -31,8 +33,9 @@
  * clamped value still reads pi/2 or more), S3 the rounded address, S4 the angle-table read and
  * the overflow flag, S5 w (the overflow gate on the registered table word), then the form's
  * stages (5 for the cosine-quadratic, 6 for the quadratic, 7 for the log2, 13 for the cubic:
- * each wide product in two, rtl/brdf_mul.v), then C * F (F gated to 0 for an n outside 1..1000) and rounding +
- * saturation -> output.  After the edge that accepts start, busy is high for F + l cycles and
+ * each wide product in two, rtl/brdf_mul.v; the piecewise form's max(14, OUT_BITS + 8), one
+ * stage per quotient bit of its divider), then C * F (F gated to 0 for an n outside 1..1000)
+ * and rounding + saturation -> output.  After the edge that accepts start, busy is high for F + l cycles and
  * valid is high in cycles F .. F + l, F = 7 + FORM_LATENCY (the last one together with busy =
  * 0, when a new start is already accepted): model.units.brdf.cycles and valid_offsets.
  *
@@ -47,16 +50,17 @@
  * on the values held before it (the run copies the registers at the start edge).  rst_n is
  * synchronous and aborts a line.
  *
- * Checks: a parameter set model.units.brdf refuses (FixedConfig, and check_unit: the forms
- * with RTL, the quadratic's and the cubic's coefficient width, the cubic's product widths) is
- * refused at elaboration (an instance of a module that does not exist, named after the rule,
- * e.g. brdf_unit_PARAMETER_ERROR_FORM_has_no_RTL_yet).  In simulation every table image is checked
- * at time 0 by the ROM module (rtl/shading_rom.v): a missing, short, malformed or
- * wrong-configuration file ends the run with a message and a non-zero exit status.
+ * Checks: a parameter set model.units.brdf refuses (FixedConfig, and check_unit: the
+ * quadratic's, the cubic's and the piecewise form's coefficient width, the cubic's and the
+ * piecewise form's product widths) is refused at elaboration (an instance of a module that does
+ * not exist, named after the rule, e.g. brdf_unit_PARAMETER_ERROR_COEF_BITS_must_be_4_to_32).
+ * In simulation every table image is checked at time 0 by the ROM module (rtl/shading_rom.v):
+ * a missing, short, malformed or wrong-configuration file ends the run with a message and a
+ * non-zero exit status.
  *
  * Sources: this file, rtl/brdf_cosine_quadratic.v, rtl/brdf_quadratic.v, rtl/brdf_cubic.v,
- * rtl/brdf_log2.v, rtl/brdf_mul.v, rtl/brdf_round.v and rtl/shading_rom.v (rtl/brdf_unit.f
- * lists them).
+ * rtl/brdf_log2.v, rtl/brdf_piecewise.v, rtl/brdf_div.v, rtl/brdf_delay.v, rtl/brdf_mul.v,
+ * rtl/brdf_round.v and rtl/shading_rom.v (rtl/brdf_unit.f lists them).
  */
 
 `resetall
@@ -72,7 +76,7 @@
 `endif
 
 module brdf_unit #(
-    // The form: "cosine_quadratic", "quadratic", "cubic" or "log2" ("piecewise": no RTL yet)
+    // The form: "cosine_quadratic", "quadratic", "cubic", "log2" or "piecewise"
     parameter [8*16-1:0] FORM = "cosine_quadratic",
     // C register integer bits (output LSBs), 1..16
     parameter C_INT_BITS = 8,
@@ -91,9 +95,10 @@ module brdf_unit #(
     // Angle-table word bits D (w = 1 - cos, D fraction bits; the log2 form: -log2 cos, D - 2), 4..24
     parameter COS_DATA_BITS = 20,
     // Coefficient word bits, 4..32 (the quadratic form: 10..32, a up to 786.44 needs 10; the
-    // cubic: 11..32, r up to 1443.2 needs 11, and at most 56 - WORK_BITS)
+    // cubic: 11..32, r up to 1443.2 needs 11, and at most 56 - WORK_BITS; the piecewise: 11..21,
+    // three coefficients a ROM word of at most 64 bits)
     parameter COEF_BITS = 18,
-    // Fraction bits P of the form's intermediate values, 4..28 (the cubic: 4..25)
+    // Fraction bits P of the form's intermediate values, 4..28 (the cubic and piecewise: 4..25)
     parameter WORK_BITS = 24,
     // Fraction bits O of the form's output word, 1..24
     parameter OUT_BITS = 16,
@@ -103,7 +108,7 @@ module brdf_unit #(
     parameter LOG_DATA_BITS = 16,
     // $readmemh image of the angle table (w = 1 - cos), by model.units.brdf (make roms)
     parameter ANGLE_ROM_FILE = {`SHADING_ROM_DIR, "/brdf_w_a12_d20.hex"},
-    // $readmemh image of the coefficient table (quadratic and cubic forms), by model.units.brdf
+    // $readmemh image of the coefficient table (quadratic, cubic, piecewise), by model.units.brdf
     parameter COEF_ROM_FILE = {`SHADING_ROM_DIR, "/brdf_quadratic_coef_c18_q10.8.hex"},
     // $readmemh image of the log2 form's second table (log2(1 + f)), by model.units.brdf
     parameter LOG_ROM_FILE = {`SHADING_ROM_DIR, "/brdf_log2_a10_d16.hex"},
@@ -152,8 +157,10 @@ localparam OFULL_WIDTH = OP_WIDTH - OSHIFT + 1;
 // elaboration-time $error: a failing rule instantiates a module that does not exist, named
 // after the rule, and every tool stops with an error naming it.  62 is the model's
 // fixed.MAX_KERNEL_WIDTH: the cubic's products (FixedConfig.product_widths) reach it,
-// tau x (b1 + b2 tau) at 2 (WORK_BITS + 5) + 2 bits and b2 x tau at COEF_BITS + WORK_BITS + 6;
-// no product of the other two forms comes near it.
+// tau x (b1 + b2 tau) at 2 (WORK_BITS + 5) + 2 bits and b2 x tau at COEF_BITS + WORK_BITS + 6,
+// and so do the piecewise form's (the cubic's; its beta x (r w - 1), COEF_BITS + WORK_BITS + 13
+// bits, stays within 62 for COEF_BITS <= 21 and WORK_BITS <= 25); no product of the other
+// forms comes near it.
 localparam [8*16-1:0] FORM_COSINE_QUADRATIC = "cosine_quadratic";
 localparam [8*16-1:0] FORM_QUADRATIC = "quadratic";
 localparam [8*16-1:0] FORM_CUBIC = "cubic";
@@ -163,18 +170,20 @@ localparam IS_COSINE_QUADRATIC = (FORM == FORM_COSINE_QUADRATIC);
 localparam IS_QUADRATIC = (FORM == FORM_QUADRATIC);
 localparam IS_CUBIC = (FORM == FORM_CUBIC);
 localparam IS_LOG2 = (FORM == FORM_LOG2);
-localparam FORM_KNOWN = IS_COSINE_QUADRATIC || IS_QUADRATIC || IS_CUBIC
-                        || FORM == FORM_PIECEWISE || IS_LOG2;
+localparam IS_PIECEWISE = (FORM == FORM_PIECEWISE);
+localparam FORM_KNOWN = IS_COSINE_QUADRATIC || IS_QUADRATIC || IS_CUBIC || IS_PIECEWISE
+                        || IS_LOG2;
 // The quadratic's a (786.44 at n = 1000) needs 10 integer bits (model QUADRATIC_A_INT_BITS;
 // the coefficient image's COEF_FRAC_BITS field carries the model's value)
 localparam QUADRATIC_A_INT_BITS = 10;
 // The cubic's r (1443.2 at n = 1000) needs 11 integer bits (model CUBIC_R_INT_BITS; its p0 is
-// Q1, b1 and b2 Q0: the image's fraction-bit fields carry the model's values)
+// Q1, b1 and b2 Q0: the image's fraction-bit fields carry the model's values); the piecewise
+// form's too, and its three coefficients a ROM word fit 64 bits up to 21 bits each (model
+// PIECEWISE_COEF_BITS_MAX; its s2 and beta are Q1)
 localparam CUBIC_R_INT_BITS = 11;
+localparam PIECEWISE_COEF_BITS_MAX = 21;
 
 localparam BAD_FORM = !FORM_KNOWN;
-localparam BAD_FORM_RTL = FORM_KNOWN && !IS_COSINE_QUADRATIC && !IS_QUADRATIC && !IS_CUBIC
-                          && !IS_LOG2;
 localparam BAD_C_INT_BITS = (C_INT_BITS < 1 || C_INT_BITS > 16);
 localparam BAD_C_FRAC_BITS = (C_FRAC_BITS < 0 || C_FRAC_BITS > 16);
 localparam BAD_Z_INT_BITS = (Z_INT_BITS < 3 || Z_INT_BITS > 8);
@@ -188,9 +197,14 @@ localparam BAD_COEF_BITS = (COEF_BITS < 4 || COEF_BITS > 32);
 localparam BAD_COEF_BITS_QUADRATIC = !BAD_COEF_BITS && IS_QUADRATIC
                                      && COEF_BITS < QUADRATIC_A_INT_BITS;
 localparam BAD_COEF_BITS_CUBIC = !BAD_COEF_BITS && IS_CUBIC && COEF_BITS < CUBIC_R_INT_BITS;
+localparam BAD_COEF_BITS_PIECEWISE = !BAD_COEF_BITS && IS_PIECEWISE
+                                     && (COEF_BITS < CUBIC_R_INT_BITS
+                                         || COEF_BITS > PIECEWISE_COEF_BITS_MAX);
 localparam BAD_WORK_BITS = (WORK_BITS < 4 || WORK_BITS > 28);
 // The cubic's tau x (b1 + b2 tau), 2 (P + 5) + 2 bits, and b2 x tau, C + P + 6 bits, within 62
+// (the piecewise form's too: it has the cubic's products)
 localparam BAD_WORK_BITS_CUBIC = !BAD_WORK_BITS && IS_CUBIC && WORK_BITS > 25;
+localparam BAD_WORK_BITS_PIECEWISE = !BAD_WORK_BITS && IS_PIECEWISE && WORK_BITS > 25;
 localparam BAD_COEF_WORK_CUBIC = !BAD_COEF_BITS && !BAD_WORK_BITS && !BAD_WORK_BITS_CUBIC
                                  && IS_CUBIC && COEF_BITS + WORK_BITS > 56;
 localparam BAD_OUT_BITS = (OUT_BITS < 1 || OUT_BITS > 24);
@@ -201,9 +215,6 @@ localparam BAD_LOG_DATA_BITS = (LOG_DATA_BITS < 4 || LOG_DATA_BITS > 24);
 generate
     if (BAD_FORM) begin : g_check_form
         brdf_unit_PARAMETER_ERROR_FORM_must_be_a_form_of_the_family u_error ();
-    end
-    if (BAD_FORM_RTL) begin : g_check_form_rtl
-        brdf_unit_PARAMETER_ERROR_FORM_has_no_RTL_yet u_error ();
     end
     if (BAD_C_INT_BITS) begin : g_check_c_int_bits
         brdf_unit_PARAMETER_ERROR_C_INT_BITS_must_be_1_to_16 u_error ();
@@ -242,11 +253,17 @@ generate
     if (BAD_COEF_BITS_CUBIC) begin : g_check_coef_bits_cubic
         brdf_unit_PARAMETER_ERROR_COEF_BITS_must_be_11_to_32_for_the_cubic_form u_error ();
     end
+    if (BAD_COEF_BITS_PIECEWISE) begin : g_check_coef_bits_piecewise
+        brdf_unit_PARAMETER_ERROR_COEF_BITS_must_be_11_to_21_for_the_piecewise_form u_error ();
+    end
     if (BAD_WORK_BITS) begin : g_check_work_bits
         brdf_unit_PARAMETER_ERROR_WORK_BITS_must_be_4_to_28 u_error ();
     end
     if (BAD_WORK_BITS_CUBIC) begin : g_check_work_bits_cubic
         brdf_unit_PARAMETER_ERROR_WORK_BITS_must_be_4_to_25_for_the_cubic_form u_error ();
+    end
+    if (BAD_WORK_BITS_PIECEWISE) begin : g_check_work_bits_piecewise
+        brdf_unit_PARAMETER_ERROR_WORK_BITS_must_be_4_to_25_for_the_piecewise_form u_error ();
     end
     if (BAD_COEF_WORK_CUBIC) begin : g_check_coef_work_cubic
         brdf_unit_PARAMETER_ERROR_COEF_BITS_plus_WORK_BITS_above_56_for_the_cubic_form
@@ -267,11 +284,15 @@ generate
 endgenerate
 
 // What the form reads of n (register 4's form part): the quadratic's coefficient word a, the
-// cubic's four {r, p0, b1, b2}, the log2's n itself (10 bits), the cosine-quadratic's 7n (13
-// bits: n up to 1023)
-localparam K_WIDTH = IS_QUADRATIC ? COEF_BITS : IS_CUBIC ? 4 * COEF_BITS : IS_LOG2 ? N_WIDTH : 13;
-// The form's pipeline stages (model.units.brdf.FORM_LATENCY)
-localparam FORM_LATENCY = IS_QUADRATIC ? 6 : IS_CUBIC ? 13 : IS_LOG2 ? 7 : 5;
+// cubic's four {r, p0, b1, b2}, the piecewise form's six {r, p0, b1, b2, s2, beta}, the log2's
+// n itself (10 bits), the cosine-quadratic's 7n (13 bits: n up to 1023)
+localparam K_WIDTH = IS_QUADRATIC ? COEF_BITS : IS_CUBIC ? 4 * COEF_BITS
+                   : IS_PIECEWISE ? 6 * COEF_BITS : IS_LOG2 ? N_WIDTH : 13;
+// The form's pipeline stages (model.units.brdf.form_latency: the piecewise form's divider
+// takes one stage per quotient bit, OUT_BITS + 1 of them, rtl/brdf_piecewise.v)
+localparam PIECEWISE_LATENCY = (OUT_BITS + 8 > 14) ? OUT_BITS + 8 : 14;
+localparam FORM_LATENCY = IS_QUADRATIC ? 6 : IS_CUBIC ? 13 : IS_LOG2 ? 7
+                        : IS_PIECEWISE ? PIECEWISE_LATENCY : 5;
 localparam LAST_STAGE = 6 + FORM_LATENCY;
 
 // ---------------------------------------------------------------- operand registers
@@ -516,7 +537,27 @@ generate
             .y(form_y)
         );
     end else if (IS_CUBIC) begin : g_cubic
+        // The product r w, which the piecewise form shares, is not read here
+        // verilator lint_off UNUSEDSIGNAL
+        wire [COEF_BITS+COS_DATA_BITS:0] rw_unused;
+        // verilator lint_on UNUSEDSIGNAL
+
         brdf_cubic #(
+            .COS_DATA_BITS(COS_DATA_BITS),
+            .WORK_BITS(WORK_BITS),
+            .OUT_BITS(OUT_BITS),
+            .COEF_BITS(COEF_BITS),
+            .RESET_ALL(RESET_ALL)
+        ) u_form (
+            .clk(clk),
+            .rst_n(rst_n),
+            .w(w_reg),
+            .k(k_run_reg),
+            .y(form_y),
+            .rw_prod(rw_unused)
+        );
+    end else if (IS_PIECEWISE) begin : g_piecewise
+        brdf_piecewise #(
             .COS_DATA_BITS(COS_DATA_BITS),
             .WORK_BITS(WORK_BITS),
             .OUT_BITS(OUT_BITS),
@@ -594,7 +635,7 @@ generate
             .y(form_y)
         );
     end else begin : g_no_form
-        // Refused above (FORM_has_no_RTL_yet or FORM_must_be_a_form_of_the_family)
+        // Refused above (FORM_must_be_a_form_of_the_family)
         assign form_y = {OUT_BITS{1'b0}};
         // verilator lint_off UNUSEDSIGNAL
         wire unused_form = &{1'b0, w_reg, k_run_reg};
@@ -603,15 +644,17 @@ generate
 endgenerate
 
 // ---------------------------------------------------------------- tables
-// The angle table (stage S4, every cycle), for the quadratic and cubic forms the coefficient
-// table (read with n while idle, like the specular unit's ROM 9) and for the log2 form its
-// second table (in g_log2 above, every cycle): instances of the ROM module (rtl/shading_rom.v),
-// which checks each image at time 0 in simulation: magic ("BRDA", "BRDC", the cubic's "BRD3",
-// the log2 table's "BRDL"), depth, width, the parameters the contents depend on (the angle
-// table: COS_ADDR_BITS, COS_DATA_BITS, TABLE = 0 (w = 1 - cos) or, for the log2 form, 1
-// (-log2 cos); the coefficient table: FORM as its index in model.units.brdf.FORMS, COEF_BITS,
-// and COEF_FRAC_BITS, or the cubic's R_FRAC_BITS, P0_FRAC_BITS, B1_FRAC_BITS, B2_FRAC_BITS; the
-// log2 table: LOG_ADDR_BITS, LOG_DATA_BITS), the checksum of the data words and the end mark; a
+// The angle table (stage S4, every cycle), for the quadratic, cubic and piecewise forms the
+// coefficient table (read with n while idle, like the specular unit's ROM 9) and for the log2
+// form its second table (in g_log2 above, every cycle): instances of the ROM module
+// (rtl/shading_rom.v), which checks each image at time 0 in simulation: magic ("BRDA", "BRDC",
+// the cubic's "BRD3", the piecewise form's "BRDP", the log2 table's "BRDL"), depth, width, the
+// parameters the contents depend on (the angle table: COS_ADDR_BITS, COS_DATA_BITS, TABLE = 0
+// (w = 1 - cos) or, for the log2 form, 1 (-log2 cos); the coefficient table: FORM as its index
+// in model.units.brdf.FORMS, COEF_BITS, and COEF_FRAC_BITS, or the cubic's R_FRAC_BITS,
+// P0_FRAC_BITS, B1_FRAC_BITS, B2_FRAC_BITS, and the piecewise form's S2_FRAC_BITS and
+// BETA_FRAC_BITS after those; the log2 table: LOG_ADDR_BITS, LOG_DATA_BITS), the checksum of
+// the data words and the end mark; a
 // bad image prints the file, the field, what it holds and what this instance needs, and ends
 // the run with a non-zero exit status.  Their read registers are never reset, in either
 // RESET_ALL mode, so that they map onto block RAM.  None needs one: the angle table's and the
@@ -692,6 +735,39 @@ generate
             .FIELD_NAMES({"FORM            ", "COEF_BITS       ", "R_FRAC_BITS     ",
                           "P0_FRAC_BITS    ", "B1_FRAC_BITS    ", "B2_FRAC_BITS    ",
                           {(8*16*6){1'b0}}})
+        ) u_coef_rom (
+            .clk(clk),
+            .rd_en_a(!busy_reg && n_we),
+            .addr_a({n_addr, 1'b0}),
+            .q_a(coef_hi),
+            .rd_en_b(!busy_reg && n_we),
+            .addr_b({n_addr, 1'b1}),
+            .q_b(coef_lo)
+        );
+        assign k_word = {coef_hi, coef_lo};
+    end else if (IS_PIECEWISE) begin : g_coef_rom_piecewise
+        // The piecewise form's word of n, 6 COEF_BITS wide, as two words of the image, three
+        // coefficients each (the ROM module holds words of 64 bits at most: COEF_BITS <= 21):
+        // {r, p0, b1} at 2 (n - 1), {b2, s2, beta} at 2 (n - 1) + 1, both read in the same
+        // clock by the ROM's two ports
+        wire [3*COEF_BITS-1:0] coef_hi;
+        wire [3*COEF_BITS-1:0] coef_lo;
+
+        shading_rom #(
+            .WIDTH(3 * COEF_BITS),
+            .DEPTH(2000),
+            .ADDR_BITS(N_WIDTH + 1),
+            .PORTS(2),
+            .FILE(COEF_ROM_FILE),
+            .NAME("COEF_ROM_FILE"),
+            .MAGIC("BRDP"),
+            .NUM_FIELDS(8),
+            .FIELD_0(2), .FIELD_1(COEF_BITS), .FIELD_2(COEF_BITS - CUBIC_R_INT_BITS),
+            .FIELD_3(COEF_BITS - 1), .FIELD_4(COEF_BITS), .FIELD_5(COEF_BITS),
+            .FIELD_6(COEF_BITS - 1), .FIELD_7(COEF_BITS - 1),
+            .FIELD_NAMES({"FORM            ", "COEF_BITS       ", "R_FRAC_BITS     ",
+                          "P0_FRAC_BITS    ", "B1_FRAC_BITS    ", "B2_FRAC_BITS    ",
+                          "S2_FRAC_BITS    ", "BETA_FRAC_BITS  ", {(8*16*4){1'b0}}})
         ) u_coef_rom (
             .clk(clk),
             .rd_en_a(!busy_reg && n_we),

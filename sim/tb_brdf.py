@@ -46,7 +46,9 @@ class BrdfTB(UnitTB):
     def span(self, n: int) -> float:
         """The angle (units of pi/2) where the form's highlight ends: the epicentre of cos^n,
         or the cosine-quadratic's zero arccos(1 - 16/(7n)), or the log2 form's arccos(2^(-3/n))
-        (n (-log2 cos) = 3), if that comes later; 1 for an n the unit refuses."""
+        (n (-log2 cos) = 3), or where the piecewise form's bloom part c / (alpha - beta c)
+        falls to 2^-8 (c = 2^-8 alpha / (1 + 2^-8 beta)), if that comes later; 1 for an n the
+        unit refuses."""
         if not 1 <= n <= specular.N_MAX:
             return 1.0
         end = specular.epicentre(n)
@@ -54,14 +56,21 @@ class BrdfTB(UnitTB):
             end = max(end, math.acos(1.0 - 16.0 / (7.0 * n)))
         if self.cfg.form == "log2":
             end = max(end, math.acos(2.0 ** (-3.0 / n)))
+        if self.cfg.form == "piecewise":
+            bloom, level = brdf.bloom_coefficients(n), 2.0**-8
+            end = max(end, math.acos(level * bloom.alpha / (1.0 + level * bloom.beta)))
         return min(1.0, end / (math.pi / 2))
 
     def z_reg(self, units: float) -> int:
         return int(self.fmt.z_format.quantise(units))
 
     def random_registers(self, rng: random.Random, n: int, length: int) -> dict[str, int]:
-        """Registers aimed at the highlight: the angle sweeps about -1.5 .. 1.5 spans."""
+        """Registers aimed at the highlight: the angle sweeps about -1.5 .. 1.5 spans (for the
+        piecewise form half the lines the epicentre's, where its cubic part works, half the
+        bloom part's, many times wider)."""
         span = 1.5 * self.span(n)
+        if self.cfg.form == "piecewise" and 1 <= n <= specular.N_MAX and rng.random() < 0.5:
+            span = 1.5 * min(1.0, specular.epicentre(n) / (math.pi / 2))
         z_start = rng.uniform(-span, span)
         z_end = rng.uniform(-span, span)
         dz = (z_end - z_start) / max(length, 1)
@@ -239,8 +248,9 @@ async def test_random_strobes(dut):
 async def test_n_register_read_on_the_n_write(dut):
     """What the unit keeps of n is taken when n is written: right after an idle-cycle n write
     the coefficient table's read register holds the model's word of n (address n - 1; word 0
-    for an n the unit refuses; the cubic's two words of n, 2 (n - 1) and 2 (n - 1) + 1, on the
-    ROM's two ports), or the cosine-quadratic's register 7n, the log2 form's register n;
+    for an n the unit refuses; the cubic's and the piecewise form's two words of n, 2 (n - 1)
+    and 2 (n - 1) + 1, on the ROM's two ports), or the cosine-quadratic's register 7n, the log2
+    form's register n;
     nerr_reg the n error."""
     tb = BrdfTB(dut)
     await tb.reset()
@@ -251,8 +261,8 @@ async def test_n_register_read_on_the_n_write(dut):
         await tb.load(n=n)
         await ReadOnly()
         i = n - 1 if ok else 0
-        if cfg.form == "cubic":
-            rom = dut.g_coef_rom_cubic.u_coef_rom
+        if cfg.form in ("cubic", "piecewise"):
+            rom = getattr(dut, f"g_coef_rom_{cfg.form}").u_coef_rom
             want = (int(words[2 * i]), int(words[2 * i + 1]))
             got = (rom.q_a_reg.value.to_unsigned(), rom.g_port_b.q_b_reg.value.to_unsigned())
         elif words is not None:

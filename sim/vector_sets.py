@@ -69,6 +69,7 @@ SETS: dict[str, tuple[units.UnitConfig, int]] = {
     "brdf_quadratic": (brdf.UNIT_CONFIGS["quadratic"], DEFAULT_CYCLES),
     "brdf_cubic": (brdf.UNIT_CONFIGS["cubic"], DEFAULT_CYCLES),
     "brdf_log2": (brdf.UNIT_CONFIGS["log2"], DEFAULT_CYCLES),
+    "brdf_piecewise": (brdf.UNIT_CONFIGS["piecewise"], DEFAULT_CYCLES),
 }
 
 

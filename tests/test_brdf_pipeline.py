@@ -98,8 +98,8 @@ def test_bad_brdf_settings_are_refused_by_name() -> None:
         PipelineConfig(brdf=cfg, diffuse_mode="unit")
     with pytest.raises(ValueError, match="brdf angle out_width = 10 is out of range"):
         PipelineConfig(brdf=replace(cfg, angle=replace(specular.DEFAULT, out_width=10)))
-    with pytest.raises(ValueError, match="form = 'piecewise' is out of range: the forms with RTL"):
-        PipelineConfig(brdf=brdf.CONFIGS["piecewise"])
+    with pytest.raises(ValueError, match=r"coef_bits = 22 is out of range: legal widths are 11"):
+        PipelineConfig(brdf=replace(brdf.CONFIGS["piecewise"], coef_bits=22))
 
 
 def test_a_configuration_file_carries_the_brdf_unit(tmp_path: Path) -> None:

@@ -52,7 +52,46 @@ ODD = {
         "log2", cos_addr_bits=8, cos_data_bits=6, log_addr_bits=8, log_data_bits=8,
         out_bits=20, angle=ODD_ANGLE,
     ),
+    # r w and s2 scaled up (shifts -10, -6), c shifted 34 bits up for a 25-bit quotient
+    "piecewise": FixedConfig(
+        "piecewise", cos_addr_bits=8, cos_data_bits=6, coef_bits=11, work_bits=16,
+        out_bits=24, angle=ODD_ANGLE,
+    ),
 }  # fmt: skip
+
+
+def _cubic_word(w: int, r: int, p0: int, b1: int, b2: int, cfg: FixedConfig) -> int:
+    """The cubic's output word as rtl/brdf_cubic.v computes it (before saturation)."""
+    d, p, o, bits = cfg.cos_data_bits, cfg.work_bits, cfg.out_bits, cfg.coef_bits
+    fr = bits - brdf.CUBIC_R_INT_BITS
+    t = max(-(1 << (p + 4)), (1 << p) - _round(r * w, fr + d - p))  # tau >= -16
+    h = _round(b2 * t, bits) + _round(b1, bits - p)
+    poly = _round(t * h, p) + _round(p0, bits - 1 - p)
+    return _round(((1 << d) - w) * max(0, poly), d + p - o)
+
+
+def piecewise_word(w: int, words: tuple[int, ...], cfg: FixedConfig) -> int:
+    """The piecewise form's output word as rtl/brdf_piecewise.v computes it: rw - 2^P in one
+    rounding, its sign the branch; the bloom part's quotient as (a + 1) >> 1 with a =
+    (2 num) // den' (the divider), saturated (before the final min, as the RTL's select)."""
+    d, p, o, bits = cfg.cos_data_bits, cfg.work_bits, cfg.out_bits, cfg.coef_bits
+    r, p0, b1, b2, s2, beta = words
+    rwm = _round(r * w, bits - brdf.CUBIC_R_INT_BITS + d - p) - (1 << p)
+    if rwm < 0:  # tau > 0: the cubic
+        return _cubic_word(w, r, p0, b1, b2, cfg)
+    den = _round(s2, bits - 1 - p) + _round(beta * rwm, bits - 1)
+    ns, ds = max(0, p + o - d), max(0, d - p - o)
+    a = (((1 << d) - w) << (ns + 1)) // (den << ds)
+    assert 0 < den < 1 << (p + 13) and a < 1 << (o + 1)  # the header's widths (4., 6.)
+    return min((a + 1) >> 1, (1 << o) - 1)
+
+
+def piecewise_coefficients(coef, n: int, cfg: FixedConfig) -> tuple[int, ...]:
+    """n's six coefficients from the image's two words: {r, p0, b1} at 2 (n - 1), {b2, s2,
+    beta} at 2 (n - 1) + 1, the first named in the highest bits."""
+    bits, mask = cfg.coef_bits, (1 << cfg.coef_bits) - 1
+    hi, lo = coef[2 * n - 2], coef[2 * n - 1]
+    return tuple((word >> (bits * k)) & mask for word in (hi, lo) for k in (2, 1, 0))
 
 
 def _round(x: int, shift: int) -> int:
@@ -90,12 +129,9 @@ def reference_line(c: int, dz: int, z0: int, n: int, length: int, cfg: FixedConf
             # the image holds {r, p0} at 2 (n - 1), {b1, b2} at 2 (n - 1) + 1
             bits, mask = cfg.coef_bits, (1 << cfg.coef_bits) - 1
             hi, lo = coef[2 * n - 2], coef[2 * n - 1]
-            r, p0, b1, b2 = hi >> bits, hi & mask, lo >> bits, lo & mask
-            fr = bits - brdf.CUBIC_R_INT_BITS
-            t = max(-(1 << (p + 4)), (1 << p) - _round(r * w, fr + d - p))  # tau >= -16
-            h = _round(b2 * t, bits) + _round(b1, bits - p)
-            poly = _round(t * h, p) + _round(p0, bits - 1 - p)
-            y = _round(((1 << d) - w) * max(0, poly), d + p - o)
+            y = _cubic_word(w, hi >> bits, hi & mask, lo >> bits, lo & mask, cfg)
+        elif cfg.form == "piecewise":
+            y = piecewise_word(w, piecewise_coefficients(coef, n, cfg), cfg)
         else:
             fa = cfg.coef_bits - brdf.QUADRATIC_A_INT_BITS
             t = max(0, (1 << p) - _round(coef[n - 1] * w, fa + d - p))
@@ -197,17 +233,20 @@ def test_bad_operands_name_the_operand(args, message: str) -> None:
 
 
 def test_bad_configurations_name_the_field() -> None:
-    """A form without RTL, the quadratic's coefficient word too narrow for a = 786.44 and the
-    cubic's for r = 1443.2 (the fixed-point model alone takes coef_bits from 4), a width
-    FixedConfig refuses (the cubic's products within 62 bits), a table the form does not
-    have."""
-    for form in ("piecewise",):
+    """The quadratic's coefficient word too narrow for a = 786.44, the cubic's and the
+    piecewise form's for r = 1443.2 (the fixed-point model alone takes coef_bits from 4), the
+    piecewise form's too wide for three a 64-bit ROM word, a width FixedConfig refuses (the
+    cubic's products within 62 bits, the piecewise form's too), a table the form does not
+    have.  Every form of the family has RTL."""
+    assert sorted(brdf.RTL_FORMS) == sorted(brdf.FORMS)
+    for bits in (10, 22):
         with pytest.raises(
-            ValueError, match=f"form = '{form}' is out of range: the forms with RTL"
+            ValueError, match=rf"coef_bits = {bits} is out of range: legal widths are 11\.\.21"
         ):
-            brdf.unit_line(0, 0, 0, 1, 0, FixedConfig(form))
-        with pytest.raises(ValueError, match="has no RTL yet"):
-            brdf.hdl_parameters(FixedConfig(form))
+            brdf.unit_line(0, 0, 0, 1, 0, FixedConfig("piecewise", coef_bits=bits))
+    with pytest.raises(ValueError, match=r"tau x \(b1 \+ b2 tau\) = 64 is out of range"):
+        FixedConfig("piecewise", work_bits=26)
+    brdf.check_unit(FixedConfig("piecewise", coef_bits=21, work_bits=25))
     narrow = FixedConfig("quadratic", coef_bits=9)
     with pytest.raises(
         ValueError, match=r"coef_bits = 9 is out of range: legal widths are 10\.\.32"
@@ -247,6 +286,28 @@ def test_quadratic_a_needs_ten_integer_bits() -> None:
     assert int(brdf.rom_words(FixedConfig("quadratic", coef_bits=10), "coef").max()) < 1 << 10
 
 
+def test_piecewise_formats_are_the_rtls() -> None:
+    """The RTL's piecewise formats (the cubic's r Q11, p0 Q1, b1 and b2 Q0, then s2 and beta
+    Q1: fraction bits COEF_BITS - 11, - 1, 0, 0, - 1, - 1) are the model's for every legal
+    width; the image holds each n's six words three to a word, in the header's fields, and
+    every word fits 3 coef_bits <= 63 bits."""
+    for bits in range(brdf.CUBIC_R_INT_BITS, brdf.PIECEWISE_COEF_BITS_MAX + 1):
+        cfg = FixedConfig("piecewise", coef_bits=bits)
+        fracs = [q.frac_bits for q in cfg.coef_formats.values()]
+        assert fracs == [bits - 11, bits - 1, bits, bits, bits - 1, bits - 1], bits
+        layout = brdf.rom_layout(cfg, "coef")
+        assert layout.width == 3 * bits <= 64 and layout.depth == 2 * specular.N_MAX
+    cfg = brdf.UNIT_CONFIGS["piecewise"]
+    words, packed = brdf.coefficient_words(cfg), brdf.rom_words(cfg, "coef")
+    assert packed.size == brdf.PIECEWISE_COEF_WORDS * specular.N_MAX
+    split = [piecewise_coefficients(packed, n, cfg) for n in range(1, specular.N_MAX + 1)]
+    assert (words == np.array(split)).all() and int(packed.max()) < 1 << 54
+    assert dict(brdf.rom_layout(cfg, "coef").config) == {
+        "FORM": 2, "COEF_BITS": 18, "R_FRAC_BITS": 7, "P0_FRAC_BITS": 17, "B1_FRAC_BITS": 18,
+        "B2_FRAC_BITS": 18, "S2_FRAC_BITS": 17, "BETA_FRAC_BITS": 17,
+    }  # fmt: skip
+
+
 def test_cubic_formats_are_the_rtls() -> None:
     """The RTL's cubic formats (r Q11, p0 Q1, b1 and b2 Q0: fraction bits COEF_BITS - 11,
     COEF_BITS - 1, COEF_BITS, COEF_BITS) are the model's for every legal width; the image holds
@@ -274,15 +335,27 @@ def test_timing(name: str) -> None:
     cosine-quadratic (its square in two stages), 6 for the quadratic (1 - a w and c t each in
     two), 13 for the cubic (four products of two stages, each followed by a stage of its own),
     7 for the log2 (n x -log2 cos in two, the table address, the table read in two, 2 - lg,
-    the rounding); the bench holds the RTL to them in every cycle."""
+    the rounding), 24 for the piecewise (6 to the divider, its 17 quotient bits, the select);
+    the bench holds the RTL to them in every cycle."""
     cfg = brdf.UNIT_CONFIGS[name]
-    fill = {"cosine_quadratic": 12, "quadratic": 13, "cubic": 20, "log2": 14}[name]
+    fill = {"cosine_quadratic": 12, "quadratic": 13, "cubic": 20, "log2": 14, "piecewise": 31}[name]
     assert brdf.FRONT_STAGES + brdf.FORM_LATENCY[name] == brdf.fill_latency(cfg) == fill
+    assert brdf.form_latency(cfg) == brdf.FORM_LATENCY[name]
     assert brdf.cycles(0, cfg) == fill and brdf.cycles(2047, cfg) == fill + 2047
     assert brdf.cycles(np.array([0, 5]), cfg).tolist() == [fill, fill + 5]
     assert brdf.valid_offsets(3, cfg) == [fill, fill + 1, fill + 2, fill + 3]
     with pytest.raises(ValueError, match="length = 2048 is out of range"):
         brdf.valid_offsets(2048, cfg)
+
+
+def test_piecewise_latency_follows_the_quotient_bits() -> None:
+    """The piecewise form's divider takes one stage per quotient bit (out_bits + 1): out_bits
+    + 8 stages, but never fewer than the cubic's 13 and the select (out_bits <= 6); the other
+    forms' do not depend on out_bits."""
+    for out_bits, stages in ((1, 14), (5, 14), (6, 14), (7, 15), (16, 24), (24, 32)):
+        cfg = FixedConfig("piecewise", out_bits=out_bits)
+        assert brdf.form_latency(cfg) == stages and brdf.fill_latency(cfg) == 7 + stages
+    assert brdf.form_latency(FixedConfig("cubic", out_bits=24)) == brdf.FORM_LATENCY["cubic"]
 
 
 def test_committed_rom_equals_fresh_generation() -> None:
@@ -297,6 +370,9 @@ def test_committed_rom_equals_fresh_generation() -> None:
     )
     assert brdf.rom_name(brdf.UNIT_CONFIGS["cubic"], "coef") == (
         "brdf_cubic_coef_c18_q11.7_q1.17_q0.18_q0.18.hex"
+    )
+    assert brdf.rom_name(brdf.UNIT_CONFIGS["piecewise"], "coef") == (
+        "brdf_piecewise_coef_c18_q11.7_q1.17_q0.18_q0.18_q1.17_q1.17.hex"
     )
     log2 = brdf.UNIT_CONFIGS["log2"]
     assert brdf.rom_kinds(log2) == ("angle", "log2")
@@ -392,6 +468,30 @@ def test_rtl_stops_on_a_bad_cubic_image(tmp_path: Path) -> None:
     quad = str(brdf.rom_path(brdf.UNIT_CONFIGS["quadratic"], "coef"))
     status, output = _simulate({**params, "COEF_ROM_FILE": quad}, tmp_path)
     assert status != 0 and f'COEF_ROM_FILE "{quad}"' in output, output
+
+
+def test_rtl_stops_on_a_bad_piecewise_image(tmp_path: Path) -> None:
+    """The piecewise form's coefficient image: the committed one passes; one whose header gives
+    beta another format, and the cubic's image, stop the run naming the file parameter and the
+    field."""
+    cfg = brdf.UNIT_CONFIGS["piecewise"]
+    params = brdf.hdl_parameters(cfg)
+    status, output = _simulate(params, tmp_path)
+    assert status == 0 and "ROM" not in output, output
+    layout = brdf.rom_layout(cfg, "coef")
+    config = tuple((k, v - 1 if k == "BETA_FRAC_BITS" else v) for k, v in layout.config)
+    wrong = tmp_path / "beta_frac.hex"
+    wrong.write_text(
+        rom.format_image(brdf.rom_words(cfg, "coef"), replace(layout, config=config), "bad")
+    )
+    status, output = _simulate({**params, "COEF_ROM_FILE": str(wrong)}, tmp_path)
+    assert status != 0 and f'COEF_ROM_FILE "{wrong}": check field BETA_FRAC_BITS is 16' in output
+    assert "this instance needs 17" in output, output
+    cubic = str(brdf.rom_path(brdf.UNIT_CONFIGS["cubic"], "coef"))
+    status, output = _simulate({**params, "COEF_ROM_FILE": cubic}, tmp_path)
+    assert status != 0 and f'COEF_ROM_FILE "{cubic}"' in output, output
+    with pytest.raises(rom.RomFileError, match=r"\(BETA_FRAC_BITS = 16, expected 17\)"):
+        brdf.read_rom(cfg, "coef", wrong)
 
 
 def test_rtl_stops_on_a_bad_log2_image(tmp_path: Path) -> None:
@@ -501,7 +601,7 @@ def test_fusesoc_core_lints_every_form(tmp_path: Path) -> None:
     base = [exe, "--cores-root", str(RTL)]
     ran = subprocess.run([*base, "core", "list"], capture_output=True, text=True, env=env)
     assert "shading:units:brdf_unit:0.1" in ran.stdout, ran.stdout + ran.stderr
-    for target in ("lint", "lint_quadratic", "lint_cubic", "lint_log2"):
+    for target in ("lint", "lint_quadratic", "lint_cubic", "lint_log2", "lint_piecewise"):
         ran = subprocess.run(
             [*base, "run", "--build-root", str(tmp_path / "build"), "--target", target,
              "shading:units:brdf_unit"],

@@ -388,11 +388,12 @@ SPECULAR_CASES = [
 QUAD = {"form": "quadratic"}
 CUBIC = {"form": "cubic"}
 LOG2 = {"form": "log2"}
+PW = {"form": "piecewise"}
 BRDF_CASES = [
     Case("cosine_quadratic", {}, None),
     Case("quadratic", QUAD, None),
     Case("cubic", CUBIC, None),
-    Case("piecewise", {"form": "piecewise"}, "FORM_has_no_RTL_yet"),
+    Case("piecewise", PW, None),
     Case("log2", LOG2, None),
     Case("phong", {"form": "phong"}, "FORM_must_be_a_form_of_the_family"),
     # One field at a time at both ends of its range
@@ -511,6 +512,45 @@ BRDF_CASES = [
     Case(
         "quadratic log_data_bits=3", {**QUAD, "log_data_bits": 3}, "LOG_DATA_BITS_must_be_4_to_24"
     ),
+    # The piecewise form: the cubic's r (11 integer bits) and three coefficients a ROM word of
+    # at most 64 bits (coef_bits 11..21), the cubic's products (work_bits 4..25)
+    Case("piecewise coef_bits=11", {**PW, "coef_bits": 11}, None),
+    Case("piecewise coef_bits=21", {**PW, "coef_bits": 21}, None),
+    Case(
+        "piecewise coef_bits=10",
+        {**PW, "coef_bits": 10},
+        "COEF_BITS_must_be_11_to_21_for_the_piecewise_form",
+    ),
+    Case(
+        "piecewise coef_bits=22",
+        {**PW, "coef_bits": 22},
+        "COEF_BITS_must_be_11_to_21_for_the_piecewise_form",
+    ),
+    Case("piecewise coef_bits=3", {**PW, "coef_bits": 3}, "COEF_BITS_must_be_4_to_32"),
+    Case("piecewise coef_bits=33", {**PW, "coef_bits": 33}, "COEF_BITS_must_be_4_to_32"),
+    Case("piecewise work_bits=4", {**PW, "work_bits": 4}, None),
+    Case("piecewise work_bits=25", {**PW, "work_bits": 25}, None),
+    Case(
+        "piecewise work_bits=26",
+        {**PW, "work_bits": 26},
+        "WORK_BITS_must_be_4_to_25_for_the_piecewise_form",
+    ),
+    Case("piecewise work_bits=29", {**PW, "work_bits": 29}, "WORK_BITS_must_be_4_to_28"),
+    # its width cases: r w and s2 scaled up (shifts below 0) and c shifted 45 bits up for a
+    # 25-bit quotient; den shifted up instead (P + O < D), a 2-bit quotient that waits for the
+    # cubic; the select at the cubic's 14 stages (O = 6) and one past (O = 7)
+    Case(
+        "piecewise shifts <= 0",
+        {**PW, "cos_data_bits": 4, "work_bits": 25, "out_bits": 24, "coef_bits": 11},
+        None,
+    ),
+    Case(
+        "piecewise den shifted",
+        {**PW, "cos_data_bits": 24, "work_bits": 4, "out_bits": 1, "coef_bits": 21},
+        None,
+    ),
+    Case("piecewise out_bits=6", {**PW, "out_bits": 6}, None),
+    Case("piecewise out_bits=7", {**PW, "out_bits": 7}, None),
 ]
 
 # RTL-only parameters every unit has, with their legal values (no model field maps to them)
@@ -531,6 +571,7 @@ CASES = {
         *_reset_all_cases(QUAD),
         Case("cubic RESET_ALL=1", CUBIC, None, {"RESET_ALL": 1}),
         Case("log2 RESET_ALL=1", LOG2, None, {"RESET_ALL": 1}),
+        Case("piecewise RESET_ALL=1", PW, None, {"RESET_ALL": 1}),
     ],
     "divider_shift": DIVIDER_CASES + _reset_all_cases(DIV),
     "gouraud_segment": GOURAUD_CASES + _reset_all_cases(GOU),
@@ -712,3 +753,96 @@ def test_icarus_message_names_the_rule(tmp_path: Path) -> None:
     status, output = _elaborate("icarus", "divider_shift", {"RECIP_BITS": 64}, tmp_path)
     assert status != 0
     assert "Unknown module type: divider_shift_PARAMETER_ERROR_RECIP_BITS_must_be_1_to_40" in output
+
+
+# The piecewise form's own modules, elaborated alone (no model dataclass maps to them: their
+# parameters are derived by rtl/brdf_piecewise.v, which the unit's cases above reach), each
+# parameter at its ends and one step beyond, and brdf_mul's SPLIT_A, which the form brought:
+# (module, parameters, rule or None); MODULE_SOURCES gives each module's files
+MODULE_SOURCES = {
+    "brdf_mul": ["brdf_mul.v"],
+    "brdf_div": ["brdf_div.v"],
+    "brdf_delay": ["brdf_delay.v"],
+    "brdf_piecewise": [
+        "brdf_piecewise.v", "brdf_cubic.v", "brdf_div.v", "brdf_delay.v", "brdf_mul.v",
+        "brdf_round.v",
+    ],
+}  # fmt: skip
+DIV_DEFAULT = {"X_WIDTH": 42, "Y_WIDTH": 37, "Q_BITS": 17}
+MODULE_CASES = [
+    ("brdf_div", DIV_DEFAULT, None),
+    ("brdf_div", {"X_WIDTH": 1, "Y_WIDTH": 1, "Q_BITS": 1}, None),
+    ("brdf_div", {"X_WIDTH": 0, "Y_WIDTH": 1, "Q_BITS": 0},
+     "X_WIDTH_and_Y_WIDTH_must_be_at_least_1"),
+    ("brdf_div", {"X_WIDTH": 2, "Y_WIDTH": 0, "Q_BITS": 2},
+     "X_WIDTH_and_Y_WIDTH_must_be_at_least_1"),
+    ("brdf_div", {**DIV_DEFAULT, "Q_BITS": 42}, None),
+    ("brdf_div", {**DIV_DEFAULT, "Q_BITS": 43}, "Q_BITS_must_be_1_to_X_WIDTH"),
+    ("brdf_div", {**DIV_DEFAULT, "Q_BITS": 0}, "Q_BITS_must_be_1_to_X_WIDTH"),
+    ("brdf_div", {**DIV_DEFAULT, "X_WIDTH": 54}, None),
+    ("brdf_div", {**DIV_DEFAULT, "X_WIDTH": 55}, "X_WIDTH_must_be_at_most_Y_WIDTH_plus_Q_BITS"),
+    ("brdf_div", {**DIV_DEFAULT, "RESET_ALL": 1}, None),
+    ("brdf_div", {**DIV_DEFAULT, "RESET_ALL": 2}, "RESET_ALL_must_be_0_or_1"),
+    ("brdf_delay", {"WIDTH": 1, "DEPTH": 0}, None),
+    ("brdf_delay", {"WIDTH": 3, "DEPTH": 5, "RESET_ALL": 1}, None),
+    ("brdf_delay", {"WIDTH": 0, "DEPTH": 1}, "WIDTH_must_be_at_least_1"),
+    ("brdf_delay", {"WIDTH": 1, "DEPTH": 64}, None),
+    ("brdf_delay", {"WIDTH": 1, "DEPTH": -1}, "DEPTH_must_be_0_to_64"),
+    ("brdf_delay", {"WIDTH": 1, "DEPTH": 65}, "DEPTH_must_be_0_to_64"),
+    ("brdf_delay", {"WIDTH": 1, "DEPTH": 1, "RESET_ALL": -1}, "RESET_ALL_must_be_0_or_1"),
+    ("brdf_piecewise", {"COEF_BITS": 11}, None),
+    ("brdf_piecewise", {"COEF_BITS": 21}, None),
+    ("brdf_piecewise", {"COEF_BITS": 10}, "COEF_BITS_must_be_11_to_21"),
+    ("brdf_piecewise", {"COEF_BITS": 22}, "COEF_BITS_must_be_11_to_21"),
+    ("brdf_mul", {"A_WIDTH": 18, "B_WIDTH": 35, "SPLIT_A": 0}, None),
+    ("brdf_mul", {"A_WIDTH": 18, "B_WIDTH": 35, "SPLIT_A": 0, "RESET_ALL": 1}, None),
+    ("brdf_mul", {"SPLIT_A": 1, "SIGNED": 1}, None),
+    ("brdf_mul", {"SPLIT_A": 2}, "SPLIT_A_must_be_0_or_1"),
+    ("brdf_mul", {"SPLIT_A": 0, "SIGNED": 1}, "SPLIT_A_0_needs_SIGNED_0"),
+]  # fmt: skip
+
+
+def _elaborate_module(tool: str, module: str, params: dict[str, int], work: Path):
+    """Elaborate ``module`` from its own files (``MODULE_SOURCES``) under ``tool``."""
+    src = [str(RTL / name) for name in MODULE_SOURCES[module]]
+    if tool == "icarus":
+        flags = [f"-P{module}.{k}={v}" for k, v in params.items()]
+        out = work / f"{module}.vvp"
+        return _run(["iverilog", "-g2005", "-o", str(out), "-s", module, *flags, *src], work)
+    if tool.startswith("verilator"):
+        lang = ["--language", "1364-2005"] if tool == "verilator-2005" else []
+        flags = [f"-G{k}={v}" for k, v in params.items()]
+        cmd = ["verilator", "--lint-only", "-Wall", *lang, "--top-module", module, *flags, *src]
+        return _run(cmd, work)
+    values = " ".join(f"-set {k} {_yosys_value(v)}" for k, v in params.items())
+    script = f"read_verilog -defer {' '.join(src)}; chparam {values} {module}; "
+    return _run([YOSYS, "-q", "-p", script + f"hierarchy -check -top {module}"], work)
+
+
+def test_the_piecewise_modules_refuse_their_bad_parameters(tmp_path: Path) -> None:
+    """rtl/brdf_div.v, rtl/brdf_delay.v, rtl/brdf_piecewise.v and brdf_mul.v's SPLIT_A alone:
+    each tool accepts every legal set lint-clean and refuses every other with a non-zero exit
+    naming the rule."""
+    missing = [t for t in TOOLS if not INSTALLED[t]]
+    assert not missing, f"not installed: {', '.join(missing)}"
+    jobs = [(tool, i) for tool in TOOLS for i in range(len(MODULE_CASES))]
+
+    def run(j: int) -> tuple[int, str]:
+        tool, i = jobs[j]
+        work = tmp_path / f"{j}_{tool}"
+        work.mkdir()
+        module, params, _ = MODULE_CASES[i]
+        return _elaborate_module(tool, module, params, work)
+
+    with ThreadPoolExecutor(WORKERS) as pool:
+        results = list(pool.map(run, range(len(jobs))))
+    problems = []
+    for (tool, i), (status, output) in zip(jobs, results, strict=True):
+        module, params, rule = MODULE_CASES[i]
+        if rule is None and (status != 0 or (tool.startswith("verilator") and output.strip())):
+            problems.append(f"{tool} refuses or warns on {module} {params}:\n{output[-1500:]}")
+        elif rule is not None and status == 0:
+            problems.append(f"{tool} accepts {module} {params}")
+        elif rule is not None and f"{module}_PARAMETER_ERROR_{rule}" not in output:
+            problems.append(f"{tool} refuses {module} {params} without {rule}:\n{output[-800:]}")
+    assert not problems, "\n\n".join(problems)

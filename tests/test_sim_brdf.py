@@ -1,15 +1,20 @@
 # SPDX-License-Identifier: Apache-2.0
 """Run the BRDF unit's cocotb bench (sim/tb_brdf.py) under SIM (Icarus by default): each form
 with RTL at its default widths (``brdf.UNIT_CONFIGS``), RESET_ALL = 0 and, for the tests that
-reset, 1; and the saved mutants ``brdf_unit_round_quarter``, for the cubic
-``brdf_unit_cubic_b_word`` and for the log2 form ``brdf_log2_octave_bit`` (tests/mutants), which
-it must fail naming intensity."""
+reset, 1; the piecewise form also at two other widths (its datapath's width cases); and the
+saved mutants ``brdf_unit_round_quarter``, for the cubic ``brdf_unit_cubic_b_word``, for the
+log2 form ``brdf_log2_octave_bit`` and for the piecewise form ``brdf_div_no_restore`` and
+``brdf_piecewise_gate_stage`` (tests/mutants), which it must fail naming intensity."""
 
 from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
 
 import pytest
 
 from model.units import brdf, specular
+from model.units.brdf import FixedConfig
 from sim.runner import SIM_BUILD, run_bench, simulator
 from tests import mutants
 from tests.conftest import record_sim
@@ -110,3 +115,64 @@ def test_bench_fails_on_the_log2_octave_bit_mutant(request) -> None:
     errors = [e for r in records for e in r["first_errors"]]
     assert sum(r["errors"] for r in records) > 0 and errors, records
     assert all("mismatch" in e and "'intensity'" in e and "reproduce with" in e for e in errors)
+
+
+@pytest.mark.parametrize(
+    ("mutant", "replaces"),
+    [("brdf_div_no_restore", "brdf_div.v"), ("brdf_piecewise_gate_stage", "brdf_piecewise.v")],
+)
+def test_bench_fails_on_the_piecewise_mutants(request, mutant: str, replaces: str) -> None:
+    """The piecewise form's divider without its restoring step, and its dividend gated by the
+    next pixel's branch (the file replaced by the mutant): the bench fails, every error it
+    reports is an intensity mismatch of a named job."""
+    records = _run(
+        "piecewise",
+        0,
+        build=f"_{mutant}",
+        testcase=["test_extremes"],
+        rtl=mutants.build(mutant, SIM_BUILD / "mutants"),
+        replaces=replaces,
+        expect_failure=True,
+    )
+    record_sim(request, records)
+    errors = [e for r in records for e in r["first_errors"]]
+    assert sum(r["errors"] for r in records) > 0 and errors, records
+    assert all("mismatch" in e and "'intensity'" in e and "reproduce with" in e for e in errors)
+
+
+# The piecewise datapath's other width cases (rtl/brdf_piecewise.v): den shifted up instead of
+# c (P + O < D) with fewer quotient stages than the cubic's (O < 6: the quotient waits, 14
+# stages), 21-bit coefficients (63-bit ROM words); and r w and s2 scaled up (negative
+# rounding shifts), a 25-bit quotient (32 stages), C x F with a 16-bit C and output, so that F
+# is compared nearly to its last bit
+PIECEWISE_WIDTHS = {
+    "narrow": FixedConfig("piecewise", coef_bits=21, work_bits=8, out_bits=4),
+    "wide": FixedConfig(
+        "piecewise", cos_addr_bits=10, cos_data_bits=6, coef_bits=11, work_bits=16, out_bits=24,
+        angle=replace(specular.DEFAULT, c_int_bits=16, c_frac_bits=0, out_width=16),
+    ),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("name", list(PIECEWISE_WIDTHS))
+def test_piecewise_rtl_at_other_widths(request, name: str, tmp_path: Path) -> None:
+    """The piecewise form at widths other than its default (images written for them): every
+    n through the unit and the extremes, every output compared in every cycle."""
+    cfg = PIECEWISE_WIDTHS[name]
+    params = brdf.hdl_parameters(cfg)
+    for which in brdf.rom_kinds(cfg):
+        path = tmp_path / brdf.rom_name(cfg, which)
+        path.write_text(brdf.rom_text(cfg, which))
+        params[f"{which.upper()}_ROM_FILE"] = str(path)
+    records = run_bench(
+        "brdf_unit",
+        "sim.tb_brdf",
+        f"brdf_piecewise_{name}",
+        params,
+        cfg,
+        testcase=["test_every_n_random_lines", "test_extremes"],
+    )
+    record_sim(request, records)
+    by_test = {r["test"]: r for r in records}
+    assert by_test["every_n_random_lines"]["jobs"] >= specular.N_MAX + 4, records
+    assert all(r["errors"] == 0 for r in records), records

@@ -64,6 +64,7 @@ CONFIGS = {
     "brdf_quadratic": (brdf.UNIT_CONFIGS["quadratic"], SHORT_SOAK),
     "brdf_cubic": (brdf.UNIT_CONFIGS["cubic"], SHORT_SOAK),
     "brdf_log2": (brdf.UNIT_CONFIGS["log2"], SHORT_SOAK),
+    "brdf_piecewise": (brdf.UNIT_CONFIGS["piecewise"], SHORT_SOAK),
 }
 
 

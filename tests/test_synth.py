@@ -134,7 +134,10 @@ def test_wrapper_reads_the_ports_from_the_rtl() -> None:
         (("gouraud_segment", divider.DEFAULT, "hx8k"), ["DividerConfig", "GouraudConfig"]),
         (("brdf_unit", "default", "hx8k"), ["'default'", "cosine_quadratic, quadratic"]),
         (("brdf_unit", divider.DEFAULT, "hx8k"), ["DividerConfig", "FixedConfig"]),
-        (("brdf_unit", brdf.FixedConfig("piecewise"), "hx8k"), ["'piecewise'", "RTL"]),
+        (
+            ("brdf_unit", brdf.FixedConfig("piecewise", coef_bits=22), "hx8k"),
+            ["coef_bits = 22", "11..21"],
+        ),
     ],
 )
 def test_bad_input_is_refused(args: tuple, words: list[str]) -> None:
@@ -221,7 +224,8 @@ def test_the_units_synthesise_their_listed_files() -> None:
         "gouraud_segment": [],
         "brdf_unit": [
             "brdf_cosine_quadratic.v", "brdf_quadratic.v", "brdf_cubic.v", "brdf_log2.v",
-            "brdf_mul.v", "brdf_round.v", "shading_rom.v",
+            "brdf_piecewise.v", "brdf_div.v", "brdf_delay.v", "brdf_mul.v", "brdf_round.v",
+            "shading_rom.v",
         ],
     }  # fmt: skip
     for unit in UNITS:
@@ -353,8 +357,8 @@ def test_the_brdf_page_carries_the_recorded_resources() -> None:
     for part in PARTS:
         spec = row["specular_unit", "default", part]
         placed = [x for x in (spec, row.get(("specular_unit", "up5k", part))) if x and x.fmax_mhz]
-        cq, q, cubic, log2 = (row["brdf_unit", form, part] for form in forms)
-        for r in (cq, q, cubic, log2):
+        cq, q, cubic, log2, pw = (row["brdf_unit", form, part] for form in forms)
+        for r in (cq, q, cubic, log2, pw):
             assert r.bram < spec.bram and r.ff > spec.ff  # fewer block RAMs, more flip-flops
             if PARTS[part].dsp and part != "gw1nr-9":
                 assert r.dsp > spec.dsp  # more DSP blocks where the part has them
@@ -366,8 +370,8 @@ def test_the_brdf_page_carries_the_recorded_resources() -> None:
             if part in ("up5k", "gw1nr-9"):  # slower there than the specular unit, but log2
                 faster = r is log2
                 assert all((r.fmax_mhz > o.fmax_mhz) == faster for o in placed), (r, placed)
-            if part == "ecp5-25f":  # faster there than the specular unit's default
-                assert r.fmax_mhz > spec.fmax_mhz, (r, spec)
+            if part == "ecp5-25f":  # faster there than the specular unit's default, but one
+                assert (r.fmax_mhz > spec.fmax_mhz) == (r is not pw), (r, spec)
         assert cq.fits and q.fits  # both fit every part, targets met
         assert cq.lut < q.lut and cq.ff < q.ff and cq.bram < q.bram  # the cheaper form
         # the cubic: more of everything than the quadratic; no iCE40 holds it
@@ -387,13 +391,25 @@ def test_the_brdf_page_carries_the_recorded_resources() -> None:
             assert all(log2.lut < r.lut for r in others)
         one_bram = {"up5k": 4, "hx8k": 4}.get(part, 1)
         assert log2.bram == cq.bram + one_bram
+        # the piecewise form: more LUTs, flip-flops and block RAMs than the cubic everywhere,
+        # more DSP blocks (two more where beta's 18 bits are one block's operand); no iCE40
+        # holds it; the slowest form on the ECP5-25F, under its 100 MHz (no target)
+        assert pw.lut > cubic.lut and pw.ff > cubic.ff and pw.bram > cubic.bram
+        assert pw.dsp > cubic.dsp if PARTS[part].dsp else pw.dsp == 0
+        if part in ("ecp5-25f", "gw1nr-9"):
+            assert pw.dsp == cubic.dsp + 2 == 19 <= PARTS[part].dsp
+        assert pw.fits == (part not in ("up5k", "hx8k")), pw
+        if part == "ecp5-25f":
+            assert pw.target_mhz is None and pw.fmax_mhz < 100
+            assert all(pw.fmax_mhz < r.fmax_mhz for r in (cq, q, cubic, log2))
     for part in ("up5k", "hx8k"):
         assert not row["specular_unit", "default", part].fits
         assert row["brdf_unit", "cubic", part].bram == 38 > PARTS[part].bram
+        assert row["brdf_unit", "piecewise", part].bram == 47 > PARTS[part].bram
     assert "ICESTORM_DSP 17/8" in row["brdf_unit", "cubic", "up5k"].overflow
     assert "ICESTORM_LC" in row["brdf_unit", "cubic", "hx8k"].overflow
     spec_target = {k[2]: v for k, v in TARGETS.items() if k[0] == "specular_unit"}
-    for form in forms:  # the specular unit's 100 MHz on the ECP5
+    for form in forms[:-1]:  # the specular unit's 100 MHz on the ECP5 (the piecewise: none)
         ecp5 = row["brdf_unit", form, "ecp5-25f"]
         assert ecp5.target_mhz == spec_target["ecp5-25f"] <= ecp5.fmax_mhz
     # 35 MHz on the UP5K: the quadratic under 40, the cosine-quadratic at its edge; the cubic
@@ -405,7 +421,7 @@ def test_the_brdf_page_carries_the_recorded_resources() -> None:
     assert 35 <= cq_up5k.fmax_mhz < 42 and row["brdf_unit", "cubic", "up5k"].target_mhz is None
     hardware = brdf.format_hardware()  # the cost table the list cites: 3 multipliers against 2
     assert "base x base (25 x 25)" in hardware and "c x (1 - a w) (21 x 25)" in hardware
-    counts = {f"brdf_unit, {f}": n for f, n in zip(forms, (3, 3, 5, 2), strict=True)}
+    counts = {f"brdf_unit, {f}": n for f, n in zip(forms, (3, 3, 5, 2, 6), strict=True)}
     for unit, count in [*counts.items(), ("specular_unit (the", 2)]:
         (line,) = [ln for ln in hardware.splitlines() if ln.startswith(f"| {unit}")]
         assert line.split(" | ")[1].startswith(f"{count}: "), line
@@ -477,6 +493,7 @@ def test_the_cli_runs_every_brdf_form_without_a_config() -> None:
     assert module.runs_of(parser_args) == [
         ("brdf_unit", "cosine_quadratic", "xc7"), ("brdf_unit", "quadratic", "xc7"),
         ("brdf_unit", "cubic", "xc7"), ("brdf_unit", "log2", "xc7"),
+        ("brdf_unit", "piecewise", "xc7"),
     ]  # fmt: skip
     parser_args.config = ["quadratic"]
     assert module.runs_of(parser_args) == [("brdf_unit", "quadratic", "xc7")]

@@ -77,6 +77,14 @@ SLOW: dict[str, str] = {
     "tests/test_sim_brdf.py::test_brdf_rtl_reset_all": (
         "RESET_ALL = 1 under cocotb; quick: the soaks check RESET_ALL = 1 in every cycle"
     ),
+    "tests/test_sim_brdf.py::test_piecewise_rtl_at_other_widths": (
+        "the piecewise form at two more widths (40 s); quick: its default widths, and "
+        "tests/test_brdf_piecewise.py walks every width case's table through the RTL's steps"
+    ),
+    "tests/test_sim_brdf.py::test_bench_fails_on_the_piecewise_mutants"
+    "[brdf_piecewise_gate_stage-brdf_piecewise.v]": (
+        "a second piecewise mutant (25 s); quick: brdf_div_no_restore"
+    ),
     "tests/test_sim_specular.py::test_specular_rtl_matches_model[narrow-0]": (
         "a narrow configuration; quick: the default and its soak, the narrow soak"
     ),

@@ -125,8 +125,8 @@ def params(config: str, kind: str = "prove") -> dict[str, object]:
 def jobs(make, quick: bool = False) -> list:
     """The unit's jobs, made by ``make(name, unit, kind, config, **fields)`` (FormalJob);
     ``quick``: the protocol proof of the cosine-quadratic form, its covers and one mutant; else
-    also the quadratic's, the cubic's and the log2's proofs, every form with RESET_ALL = 1, and
-    every mutant."""
+    also the quadratic's, the cubic's, the log2's and the piecewise form's proofs, every form
+    with RESET_ALL = 1, and every mutant."""
     out = []
 
     def add(name: str, kind: str, config: str, **kw) -> None:

@@ -84,6 +84,7 @@ UNITS: dict[str, tuple[type, dict[str, object]]] = {
             "quadratic": brdf.UNIT_CONFIGS["quadratic"],
             "cubic": brdf.UNIT_CONFIGS["cubic"],
             "log2": brdf.UNIT_CONFIGS["log2"],
+            "piecewise": brdf.UNIT_CONFIGS["piecewise"],
         },
     ),
 }

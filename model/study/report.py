@@ -38,6 +38,7 @@ METHOD_LABELS: dict[str, str] = {
     "quadratic": "(j) units: quadratic BRDF unit, a per n",
     "cubic": "(k) units: cubic BRDF unit, r p0 b1 b2 per n",
     "log2": "(l) units: log2 BRDF unit, n x -log2 cos, a log2 table",
+    "piecewise": "(m) units: piecewise BRDF unit, the cubic and the divided bloom, six words per n",
 }
 FLOAT_SHADERS = {"exact": reference.exact_blinn, "phong": reference.phong}
 DEFAULT_SCENE = "teapot"

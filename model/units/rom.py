@@ -7,7 +7,7 @@ check words: 32-bit fields, each in ``chunks(width)`` words of ``width`` bits, l
 after a ``// name = value`` comment:
 
 * ``magic``: the kind of ROM (``MAGIC``: ``"DIVR"``, ``"SR09"``, ``"SR12"``, ``"BRDA"``,
-  ``"BRDC"``, ``"BRD3"``, ``"BRDL"`` in ASCII);
+  ``"BRDC"``, ``"BRD3"``, ``"BRDP"``, ``"BRDL"`` in ASCII);
 * ``depth``, ``width``: of the data words;
 * the configuration the contents were built for, one field per RTL parameter
   (``KIND_FIELDS``; ``ALPHA`` as its index in ``ALPHA_NAMES``, a K of an unused table as 0);
@@ -62,6 +62,7 @@ MAGIC: dict[str, int] = {
     "brdf_angle": _tag("BRDA"),
     "brdf_coef": _tag("BRDC"),
     "brdf_cubic_coef": _tag("BRD3"),
+    "brdf_piecewise_coef": _tag("BRDP"),
     "brdf_log2": _tag("BRDL"),
 }
 """The first check field of each kind of image."""
@@ -78,6 +79,10 @@ KIND_FIELDS: dict[str, tuple[str, ...]] = {
     "brdf_cubic_coef": (
         *("FORM", "COEF_BITS", "R_FRAC_BITS", "P0_FRAC_BITS", "B1_FRAC_BITS", "B2_FRAC_BITS"),
     ),
+    "brdf_piecewise_coef": (
+        *("FORM", "COEF_BITS", "R_FRAC_BITS", "P0_FRAC_BITS", "B1_FRAC_BITS", "B2_FRAC_BITS"),
+        *("S2_FRAC_BITS", "BETA_FRAC_BITS"),
+    ),
     "brdf_log2": ("LOG_ADDR_BITS", "LOG_DATA_BITS"),
 }
 """The configuration fields of each kind, in image order: the RTL parameters they must equal."""
@@ -88,6 +93,7 @@ KIND_TITLES = {
     "brdf_angle": "brdf_unit angle table",
     "brdf_coef": "brdf_unit coefficient table",
     "brdf_cubic_coef": "brdf_unit cubic coefficient table",
+    "brdf_piecewise_coef": "brdf_unit piecewise coefficient table",
     "brdf_log2": "brdf_unit log2 table",
 }
 ALPHA_NAMES = ("taylor", "inflection")

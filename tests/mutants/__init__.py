@@ -31,6 +31,15 @@ snippet is no longer in the RTL exactly once, ``build`` fails instead of testing
   (x in [1, 3), f = x - 1) with bit F where bit F + 1 belongs, so for x in [2, 3) f loses its
   half and the table is read a half octave low.  The cocotb bench must fail on it with the
   log2 form, naming intensity (the mutant replaces rtl/brdf_log2.v in the unit's sources).
+* ``brdf_div_no_restore``: the piecewise form's divider (rtl/brdf_div.v) keeps u - y as the
+  partial remainder even when it borrows (the restoring step dropped), so every quotient bit
+  after the first 0 is wrong.  The cocotb bench must fail on it with the piecewise form,
+  naming intensity (the mutant replaces rtl/brdf_div.v): the bench reaches the bloom part.
+* ``brdf_piecewise_gate_stage``: the piecewise datapath gates the dividend with the branch
+  flag one stage too early (the next pixel's), so only a bloom pixel followed by a cubic one
+  (the junction crossed towards the peak) divides 0.  The cocotb bench must fail on it with the
+  piecewise form, naming intensity (the mutant replaces rtl/brdf_piecewise.v): its lines cross
+  the junction.
 """
 
 from __future__ import annotations
@@ -78,8 +87,17 @@ MUTANTS = {
     ),
     "brdf_unit_cubic_b_word": Mutant(
         "brdf_unit_cubic_b_word",
-        "            .addr_b({n_addr, 1'b1}),\n",
-        "            .addr_b({n_addr, 1'b0}),  // MUTANT: {r, p0} read as {b1, b2}\n",
+        # the cubic's port B (the piecewise form's ROM, next, has the same lines)
+        "            .addr_b({n_addr, 1'b1}),\n"
+        "            .q_b(coef_lo)\n"
+        "        );\n"
+        "        assign k_word = {coef_hi, coef_lo};\n"
+        "    end else if (IS_PIECEWISE) begin : g_coef_rom_piecewise\n",
+        "            .addr_b({n_addr, 1'b0}),  // MUTANT: {r, p0} read as {b1, b2}\n"
+        "            .q_b(coef_lo)\n"
+        "        );\n"
+        "        assign k_word = {coef_hi, coef_lo};\n"
+        "    end else if (IS_PIECEWISE) begin : g_coef_rom_piecewise\n",
         unit="brdf_unit",
     ),
     "brdf_log2_octave_bit": Mutant(
@@ -87,6 +105,18 @@ MUTANTS = {
         "wire [F:0] v = oct_next ? {x[F+1], x[F-1:0]} : {x[F-1:0], 1'b0};\n",
         "wire [F:0] v = oct_next ? {x[F], x[F-1:0]} : {x[F-1:0], 1'b0};  // MUTANT: bit F\n",
         unit="brdf_log2",
+    ),
+    "brdf_div_no_restore": Mutant(
+        "brdf_div_no_restore",
+        "                t_reg <= ge ? diff[Y_WIDTH-1:0] : u[Y_WIDTH-1:0];\n",
+        "                t_reg <= diff[Y_WIDTH-1:0];  // MUTANT: never restores\n",
+        unit="brdf_div",
+    ),
+    "brdf_piecewise_gate_stage": Mutant(
+        "brdf_piecewise_gate_stage",
+        "    num_reg <= bloom5_reg ? c5_reg : {(D+1){1'b0}};\n",
+        "    num_reg <= bloom4_reg ? c5_reg : {(D+1){1'b0}};  // MUTANT: the next pixel's flag\n",
+        unit="brdf_piecewise",
     ),
 }
 

@@ -79,12 +79,21 @@ def brdf_epicentre_error(cfg: brdf.FixedConfig) -> tuple[float, int]:
     return brdf.fixed_accuracy(cfg).worst("rel_cos", 2)[:2]
 
 
-BRDF_ADDERS: dict[str, int] = {"cosine_quadratic": 3, "quadratic": 3, "cubic": 5, "log2": 2}
-"""The datapath adders of each BRDF form's unit, counted in its RTL as ``hardware`` counts the
-patent's (rtl/brdf_unit.v and rtl/brdf_<form>.v): the angle accumulator, and the
-cosine-quadratic's 1 - m and 7n = 8n - n (once per line), the quadratic's 1 - w and 1 - m, the
-cubic's c = 1 - w, tau = 1 - r w, h = b2 tau + b1 and P = tau h + p0, the log2's 2 - log2 u
-(its octave's carry from the table address's rounding is a rounding increment);
+BRDF_ADDERS: dict[str, int] = {
+    "cosine_quadratic": 3,
+    "quadratic": 3,
+    "cubic": 5,
+    "log2": 2,
+    "piecewise": 25,
+}
+"""The datapath adders of each BRDF form's unit at its default widths, counted in its RTL as
+``hardware`` counts the patent's (rtl/brdf_unit.v and rtl/brdf_<form>.v): the angle
+accumulator, and the cosine-quadratic's 1 - m and 7n = 8n - n (once per line), the quadratic's
+1 - w and 1 - m, the cubic's c = 1 - w, tau = 1 - r w, h = b2 tau + b1 and P = tau h + p0, the
+log2's 2 - log2 u (its octave's carry from the table address's rounding is a rounding
+increment), the piecewise form's the cubic's four, its bloom part's c = 1 - w, r w - 1 and
+den = s2 + beta (r w - 1), and its divider's subtractor per quotient bit (out_bits + 1 = 17:
+rtl/brdf_div.v; the quotient's rounding (a + 1) >> 1 is a rounding increment);
 rounding increments, |zeta|'s negation, n - 1, clips and saturations and the partial-product
 sums inside the split multipliers (rtl/brdf_mul.v) are not counted.  A form not here (its RTL
 not yet counted) has NaN adders."""

@@ -8,9 +8,10 @@ zeta(i) = z0 + i dz (``angle.acc_width`` bits, never wraps), per pixel the form'
 and saturated to ``angle.out_width`` bits, as the specular unit's multiplier 13 does with its
 ROM-12 word.  n outside 1..1000 gives intensity 0 and n_err = 1 on every pixel.
 
-Owns which forms have RTL (``RTL_FORMS``, ``FORM_LATENCY``) and the extra rule a unit's tables
-impose (``check_unit``), ``unit_line``, the timing (``fill_latency``, ``cycles``,
-``valid_offsets``), ``hdl_parameters`` and the ROM images (``rom_layout``, ``rom_text``,
+Owns which forms have RTL (``RTL_FORMS``: every form of the family, ``FORM_LATENCY``) and the
+extra rules a unit's tables impose (``check_unit``), ``unit_line``, the timing
+(``form_latency``, ``fill_latency``, ``cycles``, ``valid_offsets``), ``hdl_parameters`` and the
+ROM images (``rom_layout``, ``rom_text``,
 ``rom_path``, ``read_rom``, ``write_roms``: the angle table, the coefficient table of a form
 that has one, the log2 form's second table; ``UNIT_CONFIGS`` names the committed ones).  Only
 ``c_int_bits``, ``c_frac_bits``, ``z_int_bits``, ``z_frac_bits``, ``len_width`` and
@@ -32,6 +33,7 @@ from model.units.brdf.fixed import (
     CUBIC,
     FORMS,
     LOG2,
+    PIECEWISE,
     QUADRATIC,
     FixedConfig,
     angle_table,
@@ -48,10 +50,19 @@ FRONT_STAGES = 7
 """Clock edges of every form's front and back: the accumulator, |zeta| in two steps, the
 angle-table address, the table read, the w gate (w = 2**D from pi/2 on), and x C; the
 rounded, saturated result is registered at the next edge (docs/brdf_unit.md, "Timing")."""
-FORM_LATENCY: dict[str, int] = {"cosine_quadratic": 5, "quadratic": 6, "cubic": 13, "log2": 7}
-"""Pipeline stages of each form's datapath module (rtl/brdf_<form>.v), w in to the output word:
-every form with RTL (the others raise in ``check_unit``)."""
+FORM_LATENCY: dict[str, int] = {
+    "cosine_quadratic": 5,
+    "quadratic": 6,
+    "cubic": 13,
+    "log2": 7,
+    "piecewise": 24,
+}
+"""Pipeline stages of each form's datapath module (rtl/brdf_<form>.v), w in to the output word,
+at the form's default widths (``UNIT_CONFIGS``): a constant of the form but for the piecewise
+form, whose divider takes one stage per quotient bit (``form_latency``: out_bits + 8, 24 at
+out_bits = 16)."""
 RTL_FORMS = tuple(FORM_LATENCY)
+"""The forms with RTL: every form of the family (``fixed.FORMS``)."""
 QUADRATIC_A_INT_BITS = 10
 """Integer bits of the quadratic's coefficient a: its largest value, 786.44 at n = 1000, needs
 10 (``FixedConfig.coef_formats`` gives the same for every coef_bits from 10 on, which the tests
@@ -66,11 +77,22 @@ CUBIC_COEF_WORDS = 2
 """Image words per n of the cubic's coefficient table: {r, p0} at 2 (n - 1), {b1, b2} at
 2 (n - 1) + 1, each 2 coef_bits wide (the ROM module rtl/shading_rom.v holds words of 64 bits
 at most; the unit reads both in one clock through the ROM's two ports)."""
+PIECEWISE_COEF_WORDS = 2
+"""Image words per n of the piecewise form's coefficient table, three coefficients a word:
+{r, p0, b1} at 2 (n - 1), {b2, s2, beta} at 2 (n - 1) + 1, each 3 coef_bits wide, read in one
+clock through the ROM's two ports (as the cubic's two words are)."""
+PIECEWISE_COEF_BITS_MAX = 21
+"""The piecewise form's widest coefficient word: three a ROM word of at most 64 bits
+(rtl/shading_rom.v).  Its formats are the cubic's r Q11, p0 Q1, b1 and b2 Q0, then s2 = 2 s and
+beta = 2 (n - 1)(1 - s) in Q1 (below 2 and 1.39), for every coef_bits from 11 on (tested)."""
+PIECEWISE_MIN_LATENCY = 14
+"""The piecewise datapath's fewest stages: the cubic's 13 (its instance) and the select."""
 UNIT_CONFIGS: dict[str, FixedConfig] = {
     "cosine_quadratic": COSINE_QUADRATIC,
     "quadratic": QUADRATIC,
     "cubic": CUBIC,
     "log2": LOG2,
+    "piecewise": PIECEWISE,
 }
 """The configurations whose ROM images are committed under rtl/rom/ (``make roms``) and which
 the bench runs: each form's default widths (``fixed.CONFIGS``)."""
@@ -78,27 +100,37 @@ the bench runs: each form's default widths (``fixed.CONFIGS``)."""
 
 def check_unit(cfg: FixedConfig) -> FixedConfig:
     """``cfg`` if the unit can be built for it, else ``ValueError`` naming the field, its value
-    and the legal range: the form must have RTL (``RTL_FORMS``), the quadratic's coefficient
-    word must hold a up to 786.44 (coef_bits >= 10; ``FixedConfig`` alone allows 4) and the
-    cubic's r up to 1443.2 (coef_bits >= 11; ``FixedConfig`` refuses the cubic's products wider
-    than 62 bits: work_bits above 25, coef_bits + work_bits above 56)."""
+    and the legal range: the quadratic's coefficient word must hold a up to 786.44
+    (coef_bits >= 10; ``FixedConfig`` alone allows 4), the cubic's r up to 1443.2
+    (coef_bits >= 11; ``FixedConfig`` refuses the cubic's products wider than 62 bits:
+    work_bits above 25, coef_bits + work_bits above 56), and the piecewise form's the same r
+    with three coefficients a ROM word of 64 bits (coef_bits 11..21; ``FixedConfig`` refuses its
+    work_bits above 25)."""
     if not isinstance(cfg, FixedConfig):
         raise ValueError(f"cfg = {cfg!r} is out of range: legal is a FixedConfig")
-    if cfg.form not in RTL_FORMS:
-        raise ValueError(
-            f"form = {cfg.form!r} is out of range: the forms with RTL are {RTL_FORMS} "
-            f"({cfg.form} has no RTL yet)"
-        )
     if cfg.form == "quadratic":
         fx.check_width("coef_bits", cfg.coef_bits, QUADRATIC_A_INT_BITS, 32)
     if cfg.form == "cubic":
         fx.check_width("coef_bits", cfg.coef_bits, CUBIC_R_INT_BITS, 32)
+    if cfg.form == "piecewise":
+        fx.check_width("coef_bits", cfg.coef_bits, CUBIC_R_INT_BITS, PIECEWISE_COEF_BITS_MAX)
     return cfg
+
+
+def form_latency(cfg: FixedConfig) -> int:
+    """Pipeline stages of the form's datapath module (``FORM_LATENCY``); the piecewise form's:
+    the bloom part's 6 stages to the divider (the product r w in two, its rounding, beta (r w - 1)
+    in two, the denominator), one stage per quotient bit (out_bits + 1: ``rtl/brdf_div.v``) and
+    the select, out_bits + 8, but at least the cubic's 13 and the select
+    (``PIECEWISE_MIN_LATENCY``)."""
+    if check_unit(cfg).form == "piecewise":
+        return max(PIECEWISE_MIN_LATENCY, cfg.out_bits + 8)
+    return FORM_LATENCY[cfg.form]
 
 
 def fill_latency(cfg: FixedConfig) -> int:
     """Clock edges from an accepted start to the first valid: ``FRONT_STAGES`` + the form's."""
-    return FRONT_STAGES + FORM_LATENCY[check_unit(cfg).form]
+    return FRONT_STAGES + form_latency(cfg)
 
 
 # ==================================================================== the line
@@ -192,7 +224,8 @@ def rom_name(cfg: FixedConfig, which: str) -> str:
     """The image's file name: the angle table by what it holds (w = 1 - cos, shared by every
     form but log2) and its widths, ``brdf_w_a12_d20.hex``; the coefficient table by form,
     word width and its coefficients' formats, ``brdf_quadratic_coef_c18_q10.8.hex``,
-    ``brdf_cubic_coef_c18_q11.7_q1.17_q0.18_q0.18.hex``; the log2 form's angle table
+    ``brdf_cubic_coef_c18_q11.7_q1.17_q0.18_q0.18.hex``,
+    ``brdf_piecewise_coef_c18_q11.7_q1.17_q0.18_q0.18_q1.17_q1.17.hex``; the log2 form's angle table
     ``brdf_log2cos_a12_d20.hex`` and its second table by its widths, ``brdf_log2_a10_d16.hex``."""
     _check_which(cfg, which)
     if which == "angle":
@@ -219,8 +252,10 @@ def rom_layout(cfg: FixedConfig, which: str = "angle") -> rom.RomLayout:
     COS_DATA_BITS, TABLE) or of the coefficient table: the quadratic's 1000 words of coef_bits,
     a of n at address n - 1 (fields FORM, COEF_BITS, COEF_FRAC_BITS); the cubic's 2000 words of
     2 coef_bits (``CUBIC_COEF_WORDS``; fields FORM, COEF_BITS and each coefficient's fraction
-    bits, R_FRAC_BITS, P0_FRAC_BITS, B1_FRAC_BITS, B2_FRAC_BITS); or the log2 form's second
-    table, 2**log_addr_bits words of log_data_bits (fields LOG_ADDR_BITS, LOG_DATA_BITS)."""
+    bits, R_FRAC_BITS, P0_FRAC_BITS, B1_FRAC_BITS, B2_FRAC_BITS); the piecewise form's 2000
+    words of 3 coef_bits (``PIECEWISE_COEF_WORDS``; fields FORM, COEF_BITS and the six fraction
+    widths, the cubic's four, S2_FRAC_BITS, BETA_FRAC_BITS); or the log2 form's second table,
+    2**log_addr_bits words of log_data_bits (fields LOG_ADDR_BITS, LOG_DATA_BITS)."""
     check_unit(cfg)
     _check_which(cfg, which)
     if which == "log2":
@@ -233,13 +268,14 @@ def rom_layout(cfg: FixedConfig, which: str = "angle") -> rom.RomLayout:
             ("TABLE", rom.TABLE_NAMES.index("log2cos" if cfg.form == "log2" else "w")),
         )
         return rom.RomLayout("brdf_angle", 1 << cfg.cos_addr_bits, cfg.cos_data_bits, config)
-    if cfg.form == "cubic":
+    if cfg.form in ("cubic", "piecewise"):
         fracs = tuple(
             (f"{name.upper()}_FRAC_BITS", q.frac_bits) for name, q in cfg.coef_formats.items()
         )
         config = (("FORM", FORMS.index(cfg.form)), ("COEF_BITS", cfg.coef_bits), *fracs)
-        depth = CUBIC_COEF_WORDS * N_MAX
-        return rom.RomLayout("brdf_cubic_coef", depth, 2 * cfg.coef_bits, config)
+        words = CUBIC_COEF_WORDS if cfg.form == "cubic" else PIECEWISE_COEF_WORDS
+        width = len(cfg.coefficients) // words * cfg.coef_bits
+        return rom.RomLayout(f"brdf_{cfg.form}_coef", words * N_MAX, width, config)
     config = (
         ("FORM", FORMS.index(cfg.form)),
         ("COEF_BITS", cfg.coef_bits),
@@ -250,8 +286,9 @@ def rom_layout(cfg: FixedConfig, which: str = "angle") -> rom.RomLayout:
 
 def rom_words(cfg: FixedConfig, which: str = "angle") -> np.ndarray:
     """The data words of the image: ``angle_table``, the quadratic's coefficient column, the
-    cubic's coefficients two to a word (r above p0, then b1 above b2, for each n), or
-    ``log2_table``."""
+    cubic's coefficients two to a word (r above p0, then b1 above b2, for each n), the piecewise
+    form's three to a word ({r, p0, b1}, then {b2, s2, beta}, the first named in the highest
+    bits), or ``log2_table``."""
     check_unit(cfg)
     _check_which(cfg, which)
     if which == "angle":
@@ -259,9 +296,15 @@ def rom_words(cfg: FixedConfig, which: str = "angle") -> np.ndarray:
     if which == "log2":
         return log2_table(cfg)
     words = coefficient_words(cfg)
-    if cfg.form == "cubic":
-        pairs = (words[:, 0::2] << cfg.coef_bits) | words[:, 1::2]
-        return pairs.reshape(-1)
+    if cfg.form in ("cubic", "piecewise"):
+        # each n's coefficients in order, cut into its image words, the first in the high bits
+        count = CUBIC_COEF_WORDS if cfg.form == "cubic" else PIECEWISE_COEF_WORDS
+        per_word = len(cfg.coefficients) // count
+        packed = np.zeros((N_MAX, len(cfg.coefficients) // per_word), dtype=np.int64)
+        for j in range(len(cfg.coefficients)):
+            shift = cfg.coef_bits * (per_word - 1 - j % per_word)
+            packed[:, j // per_word] |= words[:, j] << shift
+        return packed.reshape(-1)
     return words[:, 0]
 
 
@@ -294,6 +337,15 @@ def rom_text(cfg: FixedConfig, which: str = "angle") -> str:
         header = (
             f"brdf_unit coefficient table, cubic form: for n = 1..{N_MAX}, r above p0 at "
             f"address 2 (n - 1), b1 above b2 at 2 (n - 1) + 1\n"
+            f"each unsigned, {cfg.coef_bits} bits: {fmts}. Generated by model.units.brdf."
+        )
+    elif cfg.form == "piecewise":
+        fmts = ", ".join(
+            f"{name} Q{q.int_bits}.{q.frac_bits}" for name, q in cfg.coef_formats.items()
+        )
+        header = (
+            f"brdf_unit coefficient table, piecewise form: for n = 1..{N_MAX}, r, p0, b1 (high to "
+            f"low bits) at address 2 (n - 1), b2, s2, beta at 2 (n - 1) + 1\n"
             f"each unsigned, {cfg.coef_bits} bits: {fmts}. Generated by model.units.brdf."
         )
     else:

@@ -16,11 +16,11 @@ from dataclasses import dataclass
 from model.units.brdf.fixed import FixedConfig, table_bits
 from model.units.brdf.unit import (
     ANGLE_FIELDS,
-    FORM_LATENCY,
     FRONT_STAGES,
     UNIT_CONFIGS,
     check_unit,
     fill_latency,
+    form_latency,
 )
 from model.units.specular import DEFAULT, N_MAX, N_WIDTH, SpecularConfig
 
@@ -61,11 +61,14 @@ MEANINGS = {
         "D - 2 fraction bits)"
     ),
     "coef_bits": (
-        "coefficient word bits (the quadratic's a, each of the cubic's r, p0, b1, b2; unused by "
-        "the cosine-quadratic and the log2)"
+        "coefficient word bits (the quadratic's a, each of the cubic's r, p0, b1, b2 and of the "
+        "piecewise form's r, p0, b1, b2, s2, beta; unused by the cosine-quadratic and the log2)"
     ),
     "work_bits": "fraction bits P of the form's intermediate values (unused by the log2)",
-    "out_bits": "fraction bits O of the form's output word F",
+    "out_bits": (
+        "fraction bits O of the form's output word F (the piecewise form's quotient bits: "
+        "O + 1 divider stages)"
+    ),
     "log_addr_bits": "the log2 form's second table: address bits E (f rounded to E bits)",
     "log_data_bits": "the log2 form's second table: word bits L (log2(1 + f), L fraction bits)",
 }
@@ -87,7 +90,8 @@ def parameter_ranges() -> list[ParameterRange]:
     """Each width parameter with both ends of its legal range, found by trying ``PROBE``
     (every legal set is contiguous: checked here); the default is the default configuration's.
     Z_FRAC_BITS is tried with COS_ADDR_BITS = 2 (it must be at least COS_ADDR_BITS), the
-    quadratic's and the cubic's COEF_BITS and the cubic's WORK_BITS get rows of their own."""
+    quadratic's, the cubic's and the piecewise form's COEF_BITS and the cubic's and the
+    piecewise form's WORK_BITS get rows of their own."""
     default = UNIT_CONFIGS["cosine_quadratic"]
     rows = []
     for name, meaning in MEANINGS.items():
@@ -101,9 +105,14 @@ def parameter_ranges() -> list[ParameterRange]:
                 ("cosine_quadratic", {}, "cosine_quadratic"),
                 ("quadratic", {}, "quadratic"),
                 ("cubic", {}, "cubic"),
+                ("piecewise", {}, "piecewise"),
             ]
         if name == "work_bits":
-            cases = [("cosine_quadratic", {}, ""), ("cubic", {}, "cubic")]
+            cases = [
+                ("cosine_quadratic", {}, ""),
+                ("cubic", {}, "cubic"),
+                ("piecewise", {}, "piecewise"),
+            ]
         for form, base, note in cases:
             legal = _legal(form, name, base)
             if legal != list(range(legal[0], legal[-1] + 1)):
@@ -117,19 +126,22 @@ def parameter_ranges() -> list[ParameterRange]:
 
 def multipliers(cfg: FixedConfig) -> list[tuple[str, int, int]]:
     """The unit's multipliers as (what, operand bits, operand bits): the form's (two, the
-    cubic's four: b2 x tau and tau x h signed, the log2's one: n times the table word) and
-    C x F."""
+    cubic's four: b2 x tau and tau x h signed, the piecewise form's the cubic's four and
+    beta x (r w - 1), the log2's one: n times the table word) and C x F.  The piecewise form's
+    divider is not a multiplier: one subtractor per quotient bit."""
     check_unit(cfg)
     d, p = cfg.cos_data_bits, cfg.work_bits
+    cubic = [
+        ("r x w", cfg.coef_bits, d + 1),
+        ("b2 x tau", cfg.coef_bits + 1, p + 5),
+        ("tau x h", p + 5, p + 5),
+        ("c x max(0, P)", d + 1, p + 9),
+    ]
     form = {
         "cosine_quadratic": [("7n x w", 13, d + 1), ("base x base", p + 1, p + 1)],
         "quadratic": [("a x w", cfg.coef_bits, d + 1), ("c x (1 - a w)", d + 1, p + 1)],
-        "cubic": [
-            ("r x w", cfg.coef_bits, d + 1),
-            ("b2 x tau", cfg.coef_bits + 1, p + 5),
-            ("tau x h", p + 5, p + 5),
-            ("c x max(0, P)", d + 1, p + 9),
-        ],
+        "cubic": cubic,
+        "piecewise": [*cubic, ("beta x (r w - 1)", cfg.coef_bits, p + 11)],
         "log2": [("n x -log2 cos", N_WIDTH, d)],
     }[cfg.form]
     c_width = cfg.angle.c_int_bits + cfg.angle.c_frac_bits
@@ -190,7 +202,7 @@ def format_timing() -> str:
     for form, cfg in UNIT_CONFIGS.items():
         first = fill_latency(cfg)
         lines.append(
-            f"| {form} | {FRONT_STAGES} + {FORM_LATENCY[form]} + 1 = {first + 1} | {first} | "
+            f"| {form} | {FRONT_STAGES} + {form_latency(cfg)} + 1 = {first + 1} | {first} | "
             f"{first} + l | {first + 1} + l |"
         )
     return "\n".join(lines)
