@@ -2,8 +2,8 @@
 /*
  * The BRDF family's front: from the angle accumulator to the angle-table word w, one pixel per
  * clock, bit for bit as model.units.brdf's unit (the word fixed.evaluate reads for an
- * accumulator value).  The BRDF unit (rtl/brdf_unit.v) instantiates it after its
- * accumulator.
+ * accumulator value).  The BRDF unit (rtl/brdf_unit.v) and the shading core's BRDF highlight
+ * path (rtl/shading_brdf_pipe.v) each instantiate it after their accumulator.
  *
  * Stages (the caller's accumulator register is S0, acc):
  *   S1  |zeta| without its carry: the low MAG_WIDTH = Z_FRAC_BITS + 1 bits one's-complemented
@@ -33,7 +33,7 @@
  * after the rule, which does not exist: brdf_front_PARAMETER_ERROR_<rule>).
  *
  * Sources: this file, rtl/brdf_round.v and rtl/shading_rom.v.  Documentation:
- * docs/brdf_unit.md.
+ * docs/brdf_unit.md and docs/core.md.
  */
 
 `resetall
