@@ -276,7 +276,8 @@ def shipped_configs() -> dict[str, PipelineConfig]:
     """The core configurations users ship besides the default, which the stream bench runs
     (tests/test_core.py) and make coverage measures: narrow widths (4-bit Gouraud levels and
     4-bit highlights, the sum's width at its smallest), the kept range of n (N_FIRST > 1, as
-    shading fit emits; no diffuse path) and the UP5K tables."""
+    shading fit emits; no diffuse path), the UP5K tables, and the highlight through each BRDF
+    form with a pipe in the core at its default widths (``BRDF_METHODS``: "brdf_<form>")."""
     return {
         "narrow": PipelineConfig(
             divider=divider.DividerConfig(a_width=9, k_width=7, recip_bits=8),
@@ -290,6 +291,7 @@ def shipped_configs() -> dict[str, PipelineConfig]:
             specular=specular.KEPT,
         ),
         "up5k": PipelineConfig(specular=specular.UP5K, diffuse_mode="unit"),
+        **{f"brdf_{form}": BRDF_METHODS[form] for form in core.CORE_FORMS},
     }
 
 
@@ -316,10 +318,10 @@ def vector_set_words(cfg: PipelineConfig | None = None) -> list[int]:
 def random_spans(fmt: core.SpanFormat, lengths, seed: int, lit: float = 0.0) -> list[int]:
     """Span beats of ``lengths`` pixels, every other field random in its range (n from 0 to
     1023: the refused ones included).  ``lit``: the share of spans whose highlight is lit
-    (spec set, z0 within pi/2 of the highlight's centre, dz small enough that most of the span
-    stays there, n log-uniform over 1..1000: the highlight's value in most pixels, and
-    neighbouring spans of different n, which a random angle, mostly beyond pi/2, leaves dark);
-    0 draws the same beats as before it was added."""
+    (spec set, n log-uniform over 1..1000, z0 within the width of cos^n, pi/2 / sqrt(n), of the
+    highlight's centre, dz small enough that most of the span stays there: the highlight's
+    value in most pixels, and neighbouring spans of different n, which a random angle, mostly
+    beyond pi/2, leaves dark); 0 draws the same beats as before it was added."""
     import numpy as np
 
     rng = np.random.default_rng(seed)
@@ -347,13 +349,14 @@ def random_spans(fmt: core.SpanFormat, lengths, seed: int, lit: float = 0.0) -> 
             row[f"i_end{c}"] = int(rng.integers(0, 1 << g.i_width))
             row[f"diff_c{c}"] = int(rng.integers(0, 1 << s.c_width))
         if lit and rng.random() < lit:
-            z0 = int(rng.integers(-half_pi, half_pi + 1))
-            reach = int(rng.integers(-half_pi, half_pi + 1)) // max(n_px - 1, 1)
+            n = int(np.clip(round(1000.0 ** rng.random()), 1, 1000))
+            width = int(half_pi / np.sqrt(n))  # cos^n falls to about e^-1.2 there
+            reach = int(rng.integers(-width, width + 1)) // max(n_px - 1, 1)
             row.update(
                 spec=1,
-                z0=z0,
-                dz=max(z_lo, min(z_hi, reach >> int(rng.integers(0, 6)))),
-                n=int(np.clip(round(1000.0 ** rng.random()), 1, 1000)),
+                z0=int(rng.integers(-width, width + 1)),
+                dz=max(z_lo, min(z_hi, reach >> int(rng.integers(0, 4)))),
+                n=n,
             )
         words.append(core.pack(layout, row))
     return words

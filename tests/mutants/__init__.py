@@ -31,6 +31,12 @@ snippet is no longer in the RTL exactly once, ``build`` fails instead of testing
   (x in [1, 3), f = x - 1) with bit F where bit F + 1 belongs, so for x in [2, 3) f loses its
   half and the table is read a half octave low.  The cocotb bench must fail on it with the
   log2 form, naming intensity (the mutant replaces rtl/brdf_log2.v in the unit's sources).
+* ``shading_brdf_pipe_cubic_b1_early``: the shading core's BRDF highlight path
+  (rtl/shading_brdf_pipe.v) hands the cubic form its b1 from the pixel one stage behind the
+  one it belongs to (the tap four clocks after w instead of five), so where a span of another
+  n follows, that span's first pixel gets the previous span's b1.  Only back-to-back spans of
+  different n with a lit highlight show it: the core's stream bench (tests/test_core.py) must
+  fail on it, naming the pixel and the span beat.
 """
 
 from __future__ import annotations
@@ -87,6 +93,12 @@ MUTANTS = {
         "wire [F:0] v = oct_next ? {x[F+1], x[F-1:0]} : {x[F-1:0], 1'b0};\n",
         "wire [F:0] v = oct_next ? {x[F], x[F-1:0]} : {x[F-1:0], 1'b0};  // MUTANT: bit F\n",
         unit="brdf_log2",
+    ),
+    "shading_brdf_pipe_cubic_b1_early": Mutant(
+        "shading_brdf_pipe_cubic_b1_early",
+        "localparam CUBIC_B1_AT = 5;\n",
+        "localparam CUBIC_B1_AT = 4;  // MUTANT: b1 of the pixel a stage behind\n",
+        unit="shading_brdf_pipe",
     ),
 }
 
