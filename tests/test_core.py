@@ -400,16 +400,18 @@ def test_the_data_sheet_gives_every_field_bit_by_bit_as_the_packer_packs_it():
 
 
 def test_sim_bench_prints_every_scene_and_method_through_the_core(capsys, teapot_file):
-    """``python -m sim bench``'s core table: every built-in scene and method, the frame equal
-    to the model's and the clocks the model gives, the (c) and (h) targets on the scene."""
+    """``python -m sim bench``'s core table: every built-in scene and method (the BRDF methods
+    among them), the frame equal to the model's and the clocks the model gives, the (c) and (h)
+    targets on the scene."""
     from model.render import scenefile
     from sim.__main__ import core_bench
 
     assert core_bench(scenefile.SceneSource("builtin", "teapot"), 24, "icarus") == 0
     out = capsys.readouterr().out
     rows = [line.split() for line in out.splitlines() if line.startswith("  ") and "equal" in line]
-    assert len(rows) == len(scenefile.SCENE_NAMES) * len(METHODS)
-    assert {(r[0], r[1]) for r in rows} == {(s, m) for s in scenefile.SCENE_NAMES for m in METHODS}
+    methods = [*METHODS, *BRDF_METHODS]
+    assert len(rows) == len(scenefile.SCENE_NAMES) * len(methods)
+    assert {(r[0], r[1]) for r in rows} == {(s, m) for s in scenefile.SCENE_NAMES for m in methods}
     for r in rows:
         assert r[3] == r[4] and float(r[5]) == pytest.approx(int(r[2]) / int(r[3]), abs=1e-4)
     assert out.count("px/clk: ") == 2  # the (c) and (h) target lines (met at 256, not at 24)
