@@ -142,6 +142,15 @@ def test_the_latency_follows_the_highlight_path():
     assert {f: core.latency(c) for f, c in BRDF_METHODS.items()} == {
         "cosine_quadratic": 20, "quadratic": 21, "cubic": 28, "log2": 22}  # fmt: skip
     assert set(core.CORE_FORMS) <= set(brdf.RTL_FORMS)
+    # docs/core.md's table, "Timing", is these
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "core.md").read_text()
+    section = text.split("## Timing\n", 1)[1].split("\n## ", 1)[0]
+    for name, cfg in (("specular", METHODS["hybrid"]), *BRDF_METHODS.items()):
+        row = (f"| `{name}` | {core.highlight_stages(cfg)} | {core.pixel_pipe(cfg)} | "
+               f"{core.latency(cfg)} |")  # fmt: skip
+        assert row in section, row
 
 
 def test_a_configuration_the_core_cannot_build_is_refused_by_name(monkeypatch):
