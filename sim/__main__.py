@@ -274,15 +274,6 @@ the Fmax of: "default" for (h), "brdf_<form>" for a BRDF method (where make synt
 "hybrid" for the rest."""
 
 
-def core_config(method: str) -> str:
-    """The synthesis configuration of ``method``'s core (``CORE_CONFIG``)."""
-    from model.render import pipeline
-
-    if method in pipeline.BRDF_METHODS:
-        return f"brdf_{method}"
-    return CORE_CONFIG.get(method, "hybrid")
-
-
 def core_fmax(config: str, part: str = CORE_PART) -> float | None:
     """The placed Fmax (MHz) of the shading core at ``config`` on ``part`` in docs/synth.json
     (``make synth``), None if it has not been placed."""
@@ -330,10 +321,10 @@ def core_bench(source: scenefile.SceneSource, size: int, sim: str, config=None) 
             print(f"FAIL: {label} {method}: {exc}")
             return 1
         mname = method if isinstance(method, str) else "config"
-        # a configuration of its own has no placed Fmax in docs/synth.json; (h) runs on the
-        # default core (both paths), a BRDF method on its form's core (where placed), every
-        # other method on the hybrid core's (the highlight's)
-        fmax = None if mname == "config" else core_fmax(core_config(mname))
+        # a configuration of its own has no placed Fmax in docs/synth.json (CORE_CONFIG)
+        brdf = mname in pipeline.BRDF_METHODS
+        fmax = core_fmax(f"brdf_{mname}" if brdf else CORE_CONFIG.get(mname, "hybrid"))
+        fmax = None if mname == "config" else fmax
         mpx = f"{r.run.px_per_clock * fmax:7.1f}" if fmax else "     --"
         same = "equal" if r.equal and r.run.cycles == r.model_cycles else "DIFFERS"
         status |= 0 if same == "equal" else 1
