@@ -301,8 +301,8 @@ endgenerate
 // widths, ...) and their ROM images' checks (ROM 9's kept range among them) are the units'
 // own: an instance of each unit the core's paths use, at the core's parameters, its clock and
 // inputs tied to 0 and its outputs unread, makes every tool refuse what that unit refuses, by
-// the same error names, and simulation check the images as the unit does.  It drives nothing and its clock never ticks: synthesis removes it, and it
-// costs simulation nothing.
+// the same error names, and simulation check the images as the unit does.  It drives nothing
+// and its clock never ticks: synthesis removes it, and it costs simulation nothing.
 // verilator lint_off UNUSEDSIGNAL
 wire                              rules_div_busy;
 wire                              rules_div_valid;
