@@ -610,6 +610,14 @@ def test_the_data_sheet_s_resources_are_the_synthesis_record():
     section = text.split("## Resources\n", 1)[1].split("\n## ", 1)[0]
     rows = [line for line in section.splitlines() if line.startswith("| ") and "---" not in line]
     assert rows[1:] == want
+    # what the prose says of the BRDF highlights' cores on the ECP5-25F
+    ecp5 = {r["config"]: r for r in record if r["unit"] == "shading_core" and r["part"] ==
+            "ecp5-25f"}  # fmt: skip
+    for name in ("brdf_cosine_quadratic", "brdf_log2"):
+        r = ecp5[name]
+        assert r["fits"] and r["fmax_mhz"] >= 100 and r["bram"] < ecp5["hybrid"]["bram"]
+        assert r["dsp"] > ecp5["hybrid"]["dsp"], name
+    assert ecp5["default"]["dsp"] == 18 and "18 DSP blocks on the ECP5-25F" in section
 
 
 @pytest.mark.parametrize("name", sorted(core_run.shipped_configs()))

@@ -365,7 +365,7 @@ def test_the_brdf_page_carries_the_recorded_resources() -> None:
                 continue
             assert r.ok, r
             if part in ("up5k", "gw1nr-9"):  # slower there than the specular unit, but log2
-                faster = r is log2
+                faster = r is log2 or (part == "gw1nr-9" and r is cubic)  # and the Gowin's cubic
                 assert all((r.fmax_mhz > o.fmax_mhz) == faster for o in placed), (r, placed)
             if part == "ecp5-25f":  # faster there than the specular unit's default
                 assert r.fmax_mhz > spec.fmax_mhz, (r, spec)

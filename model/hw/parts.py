@@ -154,16 +154,17 @@ TARGETS: dict[tuple[str, str, str], float] = {
     # so, 110.4 MHz).  UP5K: 35 MHz.  The UP5K's 40 MHz is the specular unit's for its narrowed
     # UP5K configuration; at the BRDF unit's default widths (24 work bits) the step after the
     # first product, a 25-bit 1 - m (cosine-quadratic) or a 35-bit rounding carry (quadratic),
-    # takes 24 to 27 ns of the UP5K's carry chains (41.2 and 36.5 MHz, seed 1; the
-    # cosine-quadratic placed at 39.9 before the cubic's generate blocks renamed its cells: it
-    # sits at the edge of 40): a narrower configuration for that part, as the specular unit has,
+    # takes 24 to 27 ns of the UP5K's carry chains (40.5 and 37.7 MHz, seed 1; the
+    # cosine-quadratic placed at 39.9 before the cubic's generate blocks renamed its cells, and
+    # at 41.2 before its front became a module of its own, rtl/brdf_front.v: it sits at the
+    # edge of 40): a narrower configuration for that part, as the specular unit has,
     # is the way to 40 MHz (docs/brdf_unit.md, "Resources").  The cubic has no UP5K target: its
     # tables and its 17 multiplier blocks do not fit the part (38 of 30 RAM40s, 17 of 8 DSPs).
     ("brdf_unit", "cosine_quadratic", "up5k"): 35.0,
     ("brdf_unit", "quadratic", "up5k"): 35.0,
     # the log2 form at the specular unit's 40 MHz on the UP5K at its default widths: its one
     # wide product is n x -log2 cos (10 x 20 bits), and the steps after it are a 2-bit octave
-    # carry and an 18-bit subtraction (47.6 MHz, seed 1)
+    # carry and an 18-bit subtraction (46.3 MHz, seed 1)
     ("brdf_unit", "log2", "up5k"): 40.0,
     ("brdf_unit", "cosine_quadratic", "ecp5-25f"): 100.0,
     ("brdf_unit", "quadratic", "ecp5-25f"): 100.0,
