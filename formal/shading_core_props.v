@@ -5,7 +5,8 @@
  * lists every property beside the sentence it proves).
  *
  * shading_core_formal wraps one shading_core (instance "dut", the job's reduced
- * configuration: model.hw.formal_core CONFIGS) with every input free and binds
+ * configuration: model.hw.formal_core CONFIGS, its highlight path the specular unit's or a
+ * BRDF form's) with every input free and binds
  * formal/axis_props.v to both ports: s_axis as the design's input (the source's rules
  * assumed), m_axis as its output (asserted: tvalid_held, tdata_stable,
  * tvalid_low_after_reset).  Beside them a model of the stream in shadow registers, driven by
@@ -87,7 +88,19 @@ module shading_core_formal #(
     parameter N_LAST = 8,
     parameter A_ROM_FILE = "a.hex",
     parameter COS_ROM_FILE = "cos.hex",
-    // Clocks from a span beat taken to its first pixel beat (model.render.core.LATENCY)
+    parameter [8*16-1:0] HIGHLIGHT = "specular",
+    parameter COS_ADDR_BITS = 3,
+    parameter COS_DATA_BITS = 5,
+    parameter COEF_BITS = 18,
+    parameter WORK_BITS = 4,
+    parameter OUT_BITS = 3,
+    parameter LOG_ADDR_BITS = 10,
+    parameter LOG_DATA_BITS = 16,
+    parameter ANGLE_ROM_FILE = "angle.hex",
+    parameter COEF_ROM_FILE = "coef.hex",
+    parameter LOG_ROM_FILE = "log.hex",
+    // Clocks from a span beat taken to its first pixel beat (model.render.core.latency: 18
+    // with the specular unit's highlight path, more with a BRDF form's)
     parameter LATENCY = 18,
     // 0: the k-inductive properties (the prove job); 1: the bounded ones, beat_of_a_span,
     // tlast_exact and no_deadlock (the bmc job); a CHECK of one property overrides it
@@ -122,7 +135,9 @@ localparam OCC_BITS = (FIFO_DEPTH > 2048) ? 13 : (FIFO_DEPTH > 1024) ? 12
                     : (FIFO_DEPTH > 512) ? 11 : (FIFO_DEPTH > 256) ? 10 : (FIFO_DEPTH > 128) ? 9
                     : (FIFO_DEPTH > 64) ? 8 : (FIFO_DEPTH > 32) ? 7 : (FIFO_DEPTH > 16) ? 6 : 5;
 localparam F_ADDR = OCC_BITS - 1;  // the FIFO's ADDR_BITS (FIFO_DEPTH = 2^F_ADDR)
-localparam STAGES = 10;  // the core's pixel pipeline S1..S10 (its v_reg)
+// The core's pixel pipeline S1..S(STAGES) (its v_reg): the latency less the span pipe (6:
+// stage A, B..E, the span register) and the FIFO's write and output register (2)
+localparam STAGES = LATENCY - 8;
 
 // Property numbers (CHECK selects one)
 localparam P_TVALID_HELD = 1;
@@ -188,7 +203,18 @@ shading_core #(
     .N_FIRST(N_FIRST),
     .N_LAST(N_LAST),
     .A_ROM_FILE(A_ROM_FILE),
-    .COS_ROM_FILE(COS_ROM_FILE)
+    .COS_ROM_FILE(COS_ROM_FILE),
+    .HIGHLIGHT(HIGHLIGHT),
+    .COS_ADDR_BITS(COS_ADDR_BITS),
+    .COS_DATA_BITS(COS_DATA_BITS),
+    .COEF_BITS(COEF_BITS),
+    .WORK_BITS(WORK_BITS),
+    .OUT_BITS(OUT_BITS),
+    .LOG_ADDR_BITS(LOG_ADDR_BITS),
+    .LOG_DATA_BITS(LOG_DATA_BITS),
+    .ANGLE_ROM_FILE(ANGLE_ROM_FILE),
+    .COEF_ROM_FILE(COEF_ROM_FILE),
+    .LOG_ROM_FILE(LOG_ROM_FILE)
 ) dut (
     .clk(clk),
     .rst_n(rst_n),

@@ -6,6 +6,7 @@
 //   Verilator: +define+SHADING_ROM_DIR=\"/abs/path/rtl/rom\"
 //   Icarus:    +define+SHADING_ROM_DIR="/abs/path/rtl/rom"
 brdf_unit.v
+brdf_front.v
 brdf_cosine_quadratic.v
 brdf_quadratic.v
 brdf_cubic.v

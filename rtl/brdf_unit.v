@@ -31,7 +31,8 @@
  * Pipeline (one pixel per clock, 7 + FORM_LATENCY stages): S0 accumulator, S1 |zeta| without
  * its carry (sign, one's complement, "too big" flag), S2 |zeta| saturated below 2 (pi: every
  * clamped value still reads pi/2 or more), S3 the rounded address, S4 the angle-table read and
- * the overflow flag, S5 w (the overflow gate on the registered table word), then the form's
+ * the overflow flag, S5 w (the overflow gate on the registered table word; S1..S5 are
+ * rtl/brdf_front.v), then the form's
  * stages (5 for the cosine-quadratic, 6 for the quadratic, 7 for the log2, 13 for the cubic:
  * each wide product in two, rtl/brdf_mul.v; the piecewise form's max(14, OUT_BITS + 8), one
  * stage per quotient bit of its divider), then C * F (F gated to 0 for an n outside 1..1000)
@@ -58,7 +59,8 @@
  * a missing, short, malformed or wrong-configuration file ends the run with a message and a
  * non-zero exit status.
  *
- * Sources: this file, rtl/brdf_cosine_quadratic.v, rtl/brdf_quadratic.v, rtl/brdf_cubic.v,
+ * Sources: this file, rtl/brdf_front.v (S1..S5, shared with the shading core's BRDF
+ * highlight path), rtl/brdf_cosine_quadratic.v, rtl/brdf_quadratic.v, rtl/brdf_cubic.v,
  * rtl/brdf_log2.v, rtl/brdf_piecewise.v, rtl/brdf_div.v, rtl/brdf_delay.v, rtl/brdf_mul.v,
  * rtl/brdf_round.v and rtl/shading_rom.v (rtl/brdf_unit.f lists them).
  */
@@ -142,10 +144,6 @@ localparam [N_WIDTH-1:0] N_MAX = 10'd1000;
 localparam C_WIDTH = C_INT_BITS + C_FRAC_BITS;
 localparam Z_WIDTH = Z_INT_BITS + Z_FRAC_BITS;
 localparam ACC_WIDTH = Z_WIDTH + LEN_WIDTH;
-// |zeta| saturated to 1 integer bit: 2^Z_FRAC_BITS (pi/2) and beyond all read cos = 0
-localparam MAG_WIDTH = Z_FRAC_BITS + 1;
-// |zeta| bits dropped to form the angle-table address (rounded: add half, slice)
-localparam ASHIFT = Z_FRAC_BITS - COS_ADDR_BITS;
 localparam OP_WIDTH = C_WIDTH + OUT_BITS;
 localparam OSHIFT = C_FRAC_BITS + OUT_BITS;
 // Rounded output before saturation: C_INT_BITS + 1 bits (C * 1.0 rounds up to 2^C_INT_BITS)
@@ -322,21 +320,13 @@ reg [K_WIDTH-1:0]   k_run_reg;
 reg                 nerr_run_reg;
 
 // ---------------------------------------------------------------- pipeline
-// S0 acc_reg, S1 low_reg + neg_reg + big_reg, S2 mag_reg, S3 addr_reg (rounded address and
-// its overflow bit), S4 angle_q (table read) + ovf_reg, S5 w_reg, S6..S9 the form (its y on
-// form_y), S10 out_prod_reg (C * F), S11 intensity_reg (the stage numbers of the
-// cosine-quadratic: each form's own stages come between S5 and C * F).  v_reg[s] marks a pixel
-// in stage s.
+// S0 acc_reg, S1..S5 the front (rtl/brdf_front.v: |zeta| in two steps, the rounded address,
+// the angle table's read, w on w_reg), S6..S9 the form (its y on form_y), S10 out_prod_reg
+// (C * F), S11 intensity_reg (the stage numbers of the cosine-quadratic: each form's own
+// stages come between S5 and C * F).  v_reg[s] marks a pixel in stage s.
 reg [LEN_WIDTH-1:0]     cnt_reg;
 reg [ACC_WIDTH-1:0]     acc_reg;
-reg [MAG_WIDTH-1:0]     low_reg;
-reg                     neg_reg;
-reg                     big_reg;
-reg [MAG_WIDTH-1:0]     mag_reg;
-reg [COS_ADDR_BITS:0]   addr_reg;
-wire [COS_DATA_BITS-1:0] angle_q;
-reg                     ovf_reg;
-reg [COS_DATA_BITS:0]   w_reg;
+wire [COS_DATA_BITS:0]  w_reg;
 wire [OUT_BITS-1:0]     form_y;
 reg [OP_WIDTH-1:0]      out_prod_reg;
 // Stage valid and last-pixel flags
@@ -354,31 +344,22 @@ assign valid = valid_reg;
 assign intensity = intensity_reg;
 assign n_err = n_err_reg;
 
-// S0 -> S1: |zeta| >= 2^MAG_WIDTH (big) without negating: a negative accumulator is big unless
-// its high bits are all ones and its low bits not all zeros; the low bits one's-complemented
-// S1 -> S2: |zeta| = low + 1 if negative, saturated to MAG_WIDTH bits
-wire                 acc_neg = acc_reg[ACC_WIDTH-1];
-wire                 acc_big = acc_neg ? (~&acc_reg[ACC_WIDTH-1:MAG_WIDTH]
-                                          || ~|acc_reg[MAG_WIDTH-1:0])
-                                       : |acc_reg[ACC_WIDTH-1:MAG_WIDTH];
-wire [MAG_WIDTH-1:0] mag_next = big_reg ? {MAG_WIDTH{1'b1}}
-                                        : low_reg + {{(MAG_WIDTH-1){1'b0}}, neg_reg};
-
-// S2 -> S3: |zeta| rounded to COS_ADDR_BITS fraction bits, saturated to one integer bit: the
-// top bit set means pi/2 or more (an address of 2^COS_ADDR_BITS or more)
-wire [COS_ADDR_BITS:0] addr_next;
-
-brdf_round #(
-    .IN_WIDTH(MAG_WIDTH),
-    .SHIFT(ASHIFT),
-    .OUT_WIDTH(COS_ADDR_BITS + 1)
-) u_round_addr (
-    .x(mag_reg),
-    .y(addr_next)
+// S0 -> S5: the front, from the accumulator to w (the table word, or 2^COS_DATA_BITS from
+// pi/2 on); its angle table holds w = 1 - cos, or -log2 cos for the log2 form (TABLE = 1)
+brdf_front #(
+    .ACC_WIDTH(ACC_WIDTH),
+    .Z_FRAC_BITS(Z_FRAC_BITS),
+    .COS_ADDR_BITS(COS_ADDR_BITS),
+    .COS_DATA_BITS(COS_DATA_BITS),
+    .TABLE(IS_LOG2 ? 1 : 0),
+    .ANGLE_ROM_FILE(ANGLE_ROM_FILE),
+    .RESET_ALL(RESET_ALL)
+) u_front (
+    .clk(clk),
+    .rst_n(rst_n),
+    .acc(acc_reg),
+    .w(w_reg)
 );
-
-// S4 -> S5: w = the table word, or 2^COS_DATA_BITS (cos = 0) from pi/2 on
-wire [COS_DATA_BITS:0] w_next = ovf_reg ? {1'b1, {COS_DATA_BITS{1'b0}}} : {1'b0, angle_q};
 
 // S9 -> S10: F, or 0 for an n outside 1..1000 (a mux, not a multiply by 0: an undefined
 // coefficient word of a never written n cannot reach a result)
@@ -487,14 +468,7 @@ always @(posedge clk) begin
         acc_reg <= acc_reg + {{LEN_WIDTH{dz_run_reg[Z_WIDTH-1]}}, dz_run_reg};
     end
 
-    // Stages S1..S5 and S10
-    low_reg <= acc_reg[MAG_WIDTH-1:0] ^ {MAG_WIDTH{acc_neg}};
-    neg_reg <= acc_neg;
-    big_reg <= acc_big;
-    mag_reg <= mag_next;
-    addr_reg <= addr_next;
-    ovf_reg <= addr_reg[COS_ADDR_BITS];
-    w_reg <= w_next;
+    // Stage S10
     out_prod_reg <= c_run_reg * form_gated;
 
     // Stage S11: the result
@@ -507,13 +481,6 @@ always @(posedge clk) begin
         dz_run_reg <= {Z_WIDTH{1'b0}};
         k_run_reg <= {K_WIDTH{1'b0}};
         acc_reg <= {ACC_WIDTH{1'b0}};
-        low_reg <= {MAG_WIDTH{1'b0}};
-        neg_reg <= 1'b0;
-        big_reg <= 1'b0;
-        mag_reg <= {MAG_WIDTH{1'b0}};
-        addr_reg <= {(COS_ADDR_BITS+1){1'b0}};
-        ovf_reg <= 1'b0;
-        w_reg <= {(COS_DATA_BITS+1){1'b0}};
         out_prod_reg <= {OP_WIDTH{1'b0}};
         intensity_reg <= {OUT_WIDTH{1'b0}};
     end
@@ -644,49 +611,23 @@ generate
 endgenerate
 
 // ---------------------------------------------------------------- tables
-// The angle table (stage S4, every cycle), for the quadratic, cubic and piecewise forms the
-// coefficient table (read with n while idle, like the specular unit's ROM 9) and for the log2
-// form its second table (in g_log2 above, every cycle): instances of the ROM module
-// (rtl/shading_rom.v), which checks each image at time 0 in simulation: magic ("BRDA", "BRDC",
-// the cubic's "BRD3", the piecewise form's "BRDP", the log2 table's "BRDL"), depth, width, the
-// parameters the contents depend on (the angle table: COS_ADDR_BITS, COS_DATA_BITS, TABLE = 0
-// (w = 1 - cos) or, for the log2 form, 1 (-log2 cos); the coefficient table: FORM as its index
-// in model.units.brdf.FORMS, COEF_BITS, and COEF_FRAC_BITS, or the cubic's R_FRAC_BITS,
-// P0_FRAC_BITS, B1_FRAC_BITS, B2_FRAC_BITS, and the piecewise form's S2_FRAC_BITS and
-// BETA_FRAC_BITS after those; the log2 table: LOG_ADDR_BITS, LOG_DATA_BITS), the checksum of
-// the data words and the end mark; a
+// The angle table (stage S4, every cycle, in the front: rtl/brdf_front.v), for the quadratic,
+// cubic and piecewise forms the coefficient table (read with n while idle, like the specular
+// unit's ROM 9) and for the log2 form its second table (in g_log2 above, every cycle):
+// instances of the ROM module (rtl/shading_rom.v), which checks each image at time 0 in
+// simulation: magic ("BRDA", "BRDC", the cubic's "BRD3", the piecewise form's "BRDP", the log2
+// table's "BRDL"), depth, width, the parameters the contents depend on (the angle table:
+// COS_ADDR_BITS, COS_DATA_BITS, TABLE = 0 (w = 1 - cos) or, for the log2 form, 1 (-log2 cos);
+// the coefficient table: FORM as its index in model.units.brdf.FORMS, COEF_BITS, and
+// COEF_FRAC_BITS, or the cubic's R_FRAC_BITS, P0_FRAC_BITS, B1_FRAC_BITS, B2_FRAC_BITS, and the
+// piecewise form's S2_FRAC_BITS and BETA_FRAC_BITS after those; the log2 table: LOG_ADDR_BITS,
+// LOG_DATA_BITS), the checksum of the data words and the end mark; a
 // bad image prints the file, the field, what it holds and what this instance needs, and ends
 // the run with a non-zero exit status.  Their read registers are never reset, in either
 // RESET_ALL mode, so that they map onto block RAM.  None needs one: the angle table's and the
 // log2 table's (both of its registers) are rewritten every cycle from the address of the pixel in the stage before;
 // after reset nerr_reg = 1 (n = 0), so until n is written every pixel's F is gated to 0 before
 // x C (an undefined coefficient word cannot reach a result).
-// verilator lint_off UNUSEDSIGNAL
-wire [COS_DATA_BITS-1:0] angle_unused_b;  // one read port
-// verilator lint_on UNUSEDSIGNAL
-
-shading_rom #(
-    .WIDTH(COS_DATA_BITS),
-    .DEPTH(2 ** COS_ADDR_BITS),
-    .ADDR_BITS(COS_ADDR_BITS),
-    .PORTS(1),
-    .FILE(ANGLE_ROM_FILE),
-    .NAME("ANGLE_ROM_FILE"),
-    .MAGIC("BRDA"),
-    .NUM_FIELDS(3),
-    .FIELD_0(COS_ADDR_BITS), .FIELD_1(COS_DATA_BITS), .FIELD_2(IS_LOG2 ? 1 : 0),
-    .FIELD_NAMES({"COS_ADDR_BITS   ", "COS_DATA_BITS   ", "TABLE           ",
-                  {(8*16*9){1'b0}}})
-) u_angle_rom (
-    .clk(clk),
-    .rd_en_a(1'b1),
-    .addr_a(addr_reg[COS_ADDR_BITS-1:0]),
-    .q_a(angle_q),
-    .rd_en_b(1'b0),
-    .addr_b({COS_ADDR_BITS{1'b0}}),
-    .q_b(angle_unused_b)
-);
-
 generate
     if (IS_QUADRATIC) begin : g_coef_rom
         // verilator lint_off UNUSEDSIGNAL

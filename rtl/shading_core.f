@@ -5,8 +5,18 @@
 // tool's working folder); see rtl/specular_unit.f for another folder.
 divider_shift.v
 specular_unit.v
+brdf_unit.v
+brdf_front.v
+brdf_cosine_quadratic.v
+brdf_quadratic.v
+brdf_cubic.v
+brdf_log2.v
+brdf_mul.v
+brdf_round.v
 shading_rom.v
 shading_increment.v
 shading_specular_pipe.v
+shading_brdf_word.v
+shading_brdf_pipe.v
 shading_axis_fifo.v
 shading_core.v

@@ -3,25 +3,30 @@
  * The shading core: spans in, RGB pixels out, one pixel per clock (docs/core.md).
  *
  * s_axis: one beat per span (model.render.core.SpanFormat, low bits first): x, y, l (the span
- * has l + 1 pixels), spec (the highlight through the specular unit), diff (the diffuse term
+ * has l + 1 pixels), spec (the highlight through the highlight unit), diff (the diffuse term
  * through the specular unit at n = 1), i_start0..2 and i_end0..2 (Gouraud registers, unsigned
- * Q(I_INT).(I_FRAC)), c, dz, z0, n (the specular registers), diff_c0..2, diff_dz, diff_z0 (the
- * diffuse jobs: one C per channel, one angle per span).
+ * Q(I_INT).(I_FRAC)), c, dz, z0, n (the highlight unit's registers), diff_c0..2, diff_dz,
+ * diff_z0 (the diffuse jobs: one C per channel, one angle per span).
  * m_axis: one beat per pixel (model.render.core.PixelFormat): x, y, R, G, B; tlast on the
  * span's last pixel; tuser = 1 on every pixel of a span whose highlight the core cannot make
- * (n outside N_FIRST..N_LAST or 1..1000: the highlight is 0, as the unit's n_err says; or a
- * flag set for a path this core was built without: that term is 0).
+ * (n outside N_FIRST..N_LAST or 1..1000 for the specular unit, outside 1..1000 for a BRDF
+ * unit: the highlight is 0, as the unit's n_err says; or a flag set for a path this core was
+ * built without: that term is 0).
  *
  * Per pixel and channel what model.render.pipeline.assemble does: the divider's quotient for
  * dI (rtl/shading_increment.v: a * round(2^N / l), rounded), the Gouraud lane i0 + bias + x dI
- * truncated and saturated, the specular unit's C cos^k(a |z0 + x dz|) for the highlight and,
- * sharing one angle, for each channel's diffuse term (rtl/shading_specular_pipe.v), then
+ * truncated and saturated, the highlight (HIGHLIGHT = "specular": the specular unit's
+ * C cos^k(a |z0 + x dz|), rtl/shading_specular_pipe.v; a BRDF form: the BRDF unit's
+ * C F_n(|z0 + x dz|), rtl/shading_brdf_pipe.v), each channel's diffuse term (the specular unit
+ * at n = 1, three channels sharing one angle: rtl/shading_specular_pipe.v), then
  * min(gouraud + diffuse + specular, 255).  Every pixel equals model.render.core.core_pixels.
  *
- * Structure: the input register and the ROM reads (stage A: ROM 9's a, the reciprocal of l,
- * decoder 10), the three products (stages B to E), the span register (the issuer: Gouraud,
- * angle and diffuse-angle accumulators, the pixel counter), the pixel pipeline (specular
- * stages S1..S10 beside the delayed Gouraud values), the sum into the output FIFO.  A span beat
+ * Structure: the input register and the ROM reads (stage A: ROM 9's a and decoder 10, or the
+ * BRDF form's word of n, rtl/shading_brdf_word.v; the reciprocal of l), the three products
+ * (stages B to E), the span register (the issuer: Gouraud, angle and diffuse-angle
+ * accumulators, the pixel counter), the pixel pipeline (the highlight's stages S1..S(STAGES),
+ * 10 for the specular unit, 7 + the form's for a BRDF form, beside the delayed Gouraud values
+ * and diffuse terms), the sum into the output FIFO.  A span beat
  * is taken while stage E is empty or moves into the span register; the span register takes the
  * next span in the clock that issues the last pixel of the current one, so spans follow each
  * other with no gap.  The issuer issues a pixel only while the pixels in flight and in the
@@ -33,9 +38,11 @@
  * data path is loaded before it is read.
  *
  * Parameters: the model's configuration fields in upper case (divider, Gouraud and specular
- * unit; the specular unit's LEN_WIDTH as SPEC_LEN_WIDTH); SPECULAR and DIFFUSE build the
- * highlight path and the diffuse path.  The Gouraud unit's P does not change a pixel (every
- * lane holds i0 + bias + x dI exactly): the core makes one pixel per clock.
+ * unit; the specular unit's LEN_WIDTH as SPEC_LEN_WIDTH; a BRDF unit's own fields after
+ * HIGHLIGHT, its angle formats being the specular unit's); SPECULAR and DIFFUSE build the
+ * highlight path and the diffuse path, HIGHLIGHT chooses the highlight's unit.  The Gouraud
+ * unit's P does not change a pixel (every lane holds i0 + bias + x dI exactly): the core makes
+ * one pixel per clock.
  */
 
 `resetall
@@ -114,6 +121,28 @@ module shading_core #(
     parameter A_ROM_FILE = {`SHADING_ROM_DIR,
                             "/specular_a_taylor_n1k1_n2k2_n3-6k4_n7-1000k16_q3.14.hex"},
     parameter COS_ROM_FILE = {`SHADING_ROM_DIR, "/specular_cos_k1-2-4-16_a12_d16.hex"},
+    // The highlight path's unit: "specular" (the patent's) or a BRDF form with a pipe here,
+    // "cosine_quadratic", "quadratic", "cubic" or "log2" (its angle formats: C_INT_BITS,
+    // C_FRAC_BITS, Z_INT_BITS, Z_FRAC_BITS, SPEC_LEN_WIDTH, OUT_WIDTH)
+    parameter [8*16-1:0] HIGHLIGHT = "specular",
+    // BRDF: angle-table address bits
+    parameter COS_ADDR_BITS = 12,
+    // BRDF: angle-table word bits
+    parameter COS_DATA_BITS = 20,
+    // BRDF: coefficient word bits (quadratic and cubic forms)
+    parameter COEF_BITS = 18,
+    // BRDF: fraction bits of the form's intermediate values
+    parameter WORK_BITS = 24,
+    // BRDF: fraction bits of the form's output word
+    parameter OUT_BITS = 16,
+    // BRDF: the log2 form's second table, address bits
+    parameter LOG_ADDR_BITS = 10,
+    // BRDF: the log2 form's second table, word bits
+    parameter LOG_DATA_BITS = 16,
+    // BRDF: the angle table's, the coefficient table's and the log2 table's images
+    parameter ANGLE_ROM_FILE = {`SHADING_ROM_DIR, "/brdf_w_a12_d20.hex"},
+    parameter COEF_ROM_FILE = {`SHADING_ROM_DIR, "/brdf_quadratic_coef_c18_q10.8.hex"},
+    parameter LOG_ROM_FILE = {`SHADING_ROM_DIR, "/brdf_log2_a10_d16.hex"},
     // s_axis_tdata bits (derived: the span beat's fields rounded up to whole bytes; another
     // value is refused)
     parameter SPAN_WIDTH = (X_WIDTH + Y_WIDTH + LEN_WIDTH + 2 + 6 * (I_INT + I_FRAC)
@@ -148,6 +177,36 @@ localparam G_WIDTH = I_WIDTH + LEN_WIDTH + 2;
 localparam AW = A_INT_BITS + A_FRAC_BITS;
 localparam TSEL_BITS = (NUM_TABLES > 2) ? 2 : 1;
 localparam G_MAX = (1 << I_INT) - 1;
+
+// The highlight's unit
+localparam [8*16-1:0] UNIT_SPECULAR = "specular";
+localparam [8*16-1:0] FORM_COSINE_QUADRATIC = "cosine_quadratic";
+localparam [8*16-1:0] FORM_QUADRATIC = "quadratic";
+localparam [8*16-1:0] FORM_CUBIC = "cubic";
+localparam [8*16-1:0] FORM_LOG2 = "log2";
+localparam IS_SPEC = (HIGHLIGHT == UNIT_SPECULAR);
+localparam IS_BRDF = (HIGHLIGHT == FORM_COSINE_QUADRATIC) || (HIGHLIGHT == FORM_QUADRATIC)
+                     || (HIGHLIGHT == FORM_CUBIC) || (HIGHLIGHT == FORM_LOG2);
+// The BRDF form's word of n (rtl/shading_brdf_word.v) and its pipeline stages
+// (model.units.brdf.FORM_LATENCY)
+localparam BRDF_K_WIDTH = (HIGHLIGHT == FORM_QUADRATIC) ? COEF_BITS
+                        : (HIGHLIGHT == FORM_CUBIC) ? 4 * COEF_BITS
+                        : (HIGHLIGHT == FORM_LOG2) ? 10 : 13;
+localparam BRDF_FORM_STAGES = (HIGHLIGHT == FORM_QUADRATIC) ? 6 : (HIGHLIGHT == FORM_CUBIC) ? 13
+                            : (HIGHLIGHT == FORM_LOG2) ? 7 : 5;
+// The highlight's word of the span: the specular unit's table and a, or the form's word
+localparam HW_WIDTH = IS_BRDF ? BRDF_K_WIDTH : TSEL_BITS + AW;
+// The diffuse jobs' a (ROM 9's word of n = 1) is 1.0 when n = 1's k is 1 (a = sqrt(n/k)) or a
+// is inflection-matched (1 for n = 1 whatever k): then the diffuse pipe shifts, no
+// multiplier 11 and no ROM 9 read (model.units.specular alpha_value)
+localparam [8*10-1:0] ALPHA_INFLECTION = "inflection";
+localparam DIFF_A_ONE = (K0 == 1) || (ALPHA == ALPHA_INFLECTION);
+// The pixel pipeline: S1..S(STAGES), the highlight's (the diffuse terms wait for it)
+localparam SPEC_STAGES = 10;
+localparam STAGES = (SPECULAR != 0 && IS_BRDF) ? 7 + BRDF_FORM_STAGES : SPEC_STAGES;
+// Clocks from a pixel issued to its beat on m_axis: STAGES, the FIFO's write and its output
+// register (model.render.core.pixel_pipe)
+localparam PIXEL_PIPE = STAGES + 2;
 
 // The span beat, low bits first (model.render.core.SpanFormat)
 localparam O_X = 0;
@@ -219,6 +278,13 @@ generate
     if (DIFFUSE == 1 && N_FIRST != 1) begin : g_check_diffuse_n
         shading_core_PARAMETER_ERROR_DIFFUSE_needs_N_FIRST_1 u_error ();
     end
+    if (!IS_SPEC && !IS_BRDF) begin : g_check_highlight
+        shading_core_PARAMETER_ERROR_HIGHLIGHT_must_be_specular_or_a_BRDF_form_with_a_pipe
+            u_error ();
+    end
+    if (FIFO_DEPTH <= PIXEL_PIPE) begin : g_check_fifo_pipe
+        shading_core_PARAMETER_ERROR_FIFO_DEPTH_must_exceed_the_pixels_in_flight u_error ();
+    end
     if (SPAN_WIDTH != SPAN_WIDTH_DERIVED) begin : g_check_span_width
         shading_core_PARAMETER_ERROR_SPAN_WIDTH_must_be_the_span_beat_s_bits_rounded_to_bytes
             u_error ();
@@ -230,13 +296,13 @@ generate
 endgenerate
 
 // ---------------------------------------------------------------- the units' own rules
-// The divider's and the specular unit's legal parameter sets (the k ranges and ALPHA,
-// MAG_INT_BITS as the model derives it, the largest a in A_INT_BITS, ...) and their ROM images'
-// checks (ROM 9's kept range among them) are the units' own: an instance of each unit at the
-// core's parameters, its clock and inputs tied to 0 and its outputs unread, makes every tool
-// refuse what that unit refuses, by the same error names, and simulation check the images as
-// the unit does.  It drives nothing and its clock never ticks: synthesis removes it, and it
-// costs simulation nothing.
+// The divider's, the specular unit's and the BRDF unit's legal parameter sets (the k ranges
+// and ALPHA, MAG_INT_BITS as the model derives it, the largest a in A_INT_BITS, a BRDF form's
+// widths, ...) and their ROM images' checks (ROM 9's kept range among them) are the units'
+// own: an instance of each unit the core's paths use, at the core's parameters, its clock and
+// inputs tied to 0 and its outputs unread, makes every tool refuse what that unit refuses, by
+// the same error names, and simulation check the images as the unit does.  It drives nothing
+// and its clock never ticks: synthesis removes it, and it costs simulation nothing.
 // verilator lint_off UNUSEDSIGNAL
 wire                              rules_div_busy;
 wire                              rules_div_valid;
@@ -246,6 +312,10 @@ wire                              rules_spec_busy;
 wire                              rules_spec_valid;
 wire [OUT_WIDTH-1:0]              rules_spec_intensity;
 wire                              rules_spec_n_err;
+wire                              rules_brdf_busy;
+wire                              rules_brdf_valid;
+wire [OUT_WIDTH-1:0]              rules_brdf_intensity;
+wire                              rules_brdf_n_err;
 // verilator lint_on UNUSEDSIGNAL
 divider_shift #(
     .A_WIDTH(A_WIDTH),
@@ -266,7 +336,7 @@ divider_shift #(
     .div_zero(rules_div_zero)
 );
 generate
-    if (SPECULAR != 0 || DIFFUSE != 0) begin : g_specular_rules
+    if ((SPECULAR != 0 && IS_SPEC) || DIFFUSE != 0) begin : g_specular_rules
         specular_unit #(
             .C_INT_BITS(C_INT_BITS), .C_FRAC_BITS(C_FRAC_BITS), .Z_INT_BITS(Z_INT_BITS),
             .Z_FRAC_BITS(Z_FRAC_BITS), .LEN_WIDTH(SPEC_LEN_WIDTH), .A_INT_BITS(A_INT_BITS),
@@ -300,6 +370,40 @@ generate
         assign rules_spec_intensity = {OUT_WIDTH{1'b0}};
         assign rules_spec_n_err = 1'b0;
     end
+    if (SPECULAR != 0 && IS_BRDF) begin : g_brdf_rules
+        brdf_unit #(
+            .FORM(HIGHLIGHT), .C_INT_BITS(C_INT_BITS), .C_FRAC_BITS(C_FRAC_BITS),
+            .Z_INT_BITS(Z_INT_BITS), .Z_FRAC_BITS(Z_FRAC_BITS), .LEN_WIDTH(SPEC_LEN_WIDTH),
+            .OUT_WIDTH(OUT_WIDTH), .COS_ADDR_BITS(COS_ADDR_BITS), .COS_DATA_BITS(COS_DATA_BITS),
+            .COEF_BITS(COEF_BITS), .WORK_BITS(WORK_BITS), .OUT_BITS(OUT_BITS),
+            .LOG_ADDR_BITS(LOG_ADDR_BITS), .LOG_DATA_BITS(LOG_DATA_BITS),
+            .ANGLE_ROM_FILE(ANGLE_ROM_FILE), .COEF_ROM_FILE(COEF_ROM_FILE),
+            .LOG_ROM_FILE(LOG_ROM_FILE)
+        ) u_brdf_rules (
+            .clk(1'b0),
+            .rst_n(1'b0),
+            .c_in({(C_INT_BITS+C_FRAC_BITS){1'b0}}),
+            .c_we(1'b0),
+            .dz_in({(Z_INT_BITS+Z_FRAC_BITS){1'b0}}),
+            .dz_we(1'b0),
+            .z0_in({(Z_INT_BITS+Z_FRAC_BITS){1'b0}}),
+            .z0_we(1'b0),
+            .n_in(10'd0),
+            .n_we(1'b0),
+            .len_in({SPEC_LEN_WIDTH{1'b0}}),
+            .len_we(1'b0),
+            .start(1'b0),
+            .busy(rules_brdf_busy),
+            .valid(rules_brdf_valid),
+            .intensity(rules_brdf_intensity),
+            .n_err(rules_brdf_n_err)
+        );
+    end else begin : g_no_brdf_rules
+        assign rules_brdf_busy = 1'b0;
+        assign rules_brdf_valid = 1'b0;
+        assign rules_brdf_intensity = {OUT_WIDTH{1'b0}};
+        assign rules_brdf_n_err = 1'b0;
+    end
 endgenerate
 
 // ---------------------------------------------------------------- stage A: input, ROM reads
@@ -330,7 +434,10 @@ assign dec_line[1] = (NUM_TABLES > 1) && (in_n > HI0) && (in_n <= HI1);
 assign dec_line[2] = (NUM_TABLES > 2) && (in_n > HI1) && (in_n <= HI2);
 assign dec_line[3] = (NUM_TABLES > 3) && (in_n > HI2) && (in_n <= HI3);
 wire n_kept = (in_n >= NFIRST) && (in_n <= NLAST);
-wire dec_err = (dec_line == 4'b0000) || !n_kept;
+// The highlight's n refused: the specular unit's decoder and kept range, or a BRDF unit's
+// 1..1000
+wire brdf_n_ok = (in_n != {N_WIDTH{1'b0}}) && (in_n <= 10'd1000);
+wire dec_err = IS_BRDF ? !brdf_n_ok : (dec_line == 4'b0000) || !n_kept;
 wire [N_WIDTH-1:0] n_off = in_n - NFIRST;
 wire [A_ADDR_BITS-1:0] a_addr = n_kept ? n_off[A_ADDR_BITS-1:0] : {A_ADDR_BITS{1'b0}};
 wire [1:0] dec_index = {dec_line[3] | dec_line[2], dec_line[3] | dec_line[1]};
@@ -375,8 +482,9 @@ always @(posedge clk) begin
     end
 end
 
-// The reciprocal ROM (read with l: round(2^N / l), the divider's word) and ROM 9 (a of n;
-// port B: a of n = 1, the diffuse jobs' word, read every clock)
+// The reciprocal ROM (read with l: round(2^N / l), the divider's word), ROM 9 (a of n, for
+// the specular highlight; port B: a of n = 1, the diffuse jobs' word, read every clock unless
+// it is 1.0) or the BRDF form's word of n
 wire [RECIP_BITS:0] recip_q;
 // verilator lint_off UNUSEDSIGNAL
 wire [RECIP_BITS:0] recip_unused_b;  // the reciprocal ROM has one port
@@ -410,17 +518,18 @@ shading_rom #(
     .q_b(recip_unused_b)
 );
 
-localparam [8*10-1:0] ALPHA_INFLECTION = "inflection";
 localparam ALPHA_INDEX = (ALPHA == ALPHA_INFLECTION) ? 1 : 0;
+localparam ROM9_A = (SPECULAR != 0 && IS_SPEC);       // port A: the highlight's a
+localparam ROM9_B = (DIFFUSE != 0 && !DIFF_A_ONE);    // port B: the diffuse jobs' a
 wire [AW-1:0] a_q;       // a of the span's n (stage B)
 wire [AW-1:0] a_diff_q;  // a of n = 1
 generate
-    if (SPECULAR != 0 || DIFFUSE != 0) begin : g_rom9
+    if (ROM9_A || ROM9_B) begin : g_rom9
         shading_rom #(
             .WIDTH(AW),
             .DEPTH(A_DEPTH),
             .ADDR_BITS(A_ADDR_BITS),
-            .PORTS(2),
+            .PORTS(ROM9_B ? 2 : 1),
             .FILE(A_ROM_FILE),
             .NAME("A_ROM_FILE"),
             .MAGIC("SR09"),
@@ -437,13 +546,43 @@ generate
             .rd_en_a(ce),
             .addr_a(a_addr),
             .q_a(a_q),
-            .rd_en_b(1'b1),
+            .rd_en_b(ROM9_B ? 1'b1 : 1'b0),
             .addr_b({A_ADDR_BITS{1'b0}}),
             .q_b(a_diff_q)
         );
     end else begin : g_no_rom9
         assign a_q = {AW{1'b0}};
         assign a_diff_q = {AW{1'b0}};
+    end
+endgenerate
+
+// The BRDF form's word of n (7n, the coefficients or n), read with the span beat as ROM 9 is
+wire [BRDF_K_WIDTH-1:0] k_q;
+generate
+    if (SPECULAR != 0 && IS_BRDF) begin : g_brdf_word
+        shading_brdf_word #(
+            .FORM(HIGHLIGHT),
+            .COEF_BITS(COEF_BITS),
+            .COEF_ROM_FILE(COEF_ROM_FILE),
+            .K_WIDTH(BRDF_K_WIDTH)
+        ) u_brdf_word (
+            .clk(clk),
+            .en(ce),
+            .n(in_n),
+            .k(k_q)
+        );
+    end else begin : g_no_brdf_word
+        assign k_q = {BRDF_K_WIDTH{1'b0}};
+    end
+endgenerate
+
+// The highlight's word of the span in stage A: the specular unit's table and a, or the form's
+wire [HW_WIDTH-1:0] hw_a;
+generate
+    if (IS_BRDF) begin : g_hw_brdf
+        assign hw_a = k_q;
+    end else begin : g_hw_specular
+        assign hw_a = {tsela_reg, a_q};
     end
 endgenerate
 
@@ -457,9 +596,8 @@ reg [CH*I_WIDTH-1:0]   ib_reg;
 reg [C_WIDTH-1:0]      cb_reg;
 reg [Z_WIDTH-1:0]      dzb_reg;
 reg [Z_WIDTH-1:0]      z0b_reg;
-reg [TSEL_BITS-1:0]    tselb_reg;
 reg                    nerrb_reg;
-reg [AW-1:0]           ab_reg;
+reg [HW_WIDTH-1:0]     hwb_reg;
 reg [CH*C_WIDTH-1:0]   dcb_reg;
 reg [Z_WIDTH-1:0]      ddzb_reg;
 reg [Z_WIDTH-1:0]      dz0b_reg;
@@ -485,7 +623,7 @@ endgenerate
 // Stages C, D and E: stage B's fields wait while the products finish (shading_increment's
 // pipeline: di belongs to the span in stage E)
 localparam FB_WIDTH = X_WIDTH + Y_WIDTH + LEN_WIDTH + 2 + CH * I_WIDTH + C_WIDTH + 2 * Z_WIDTH
-                    + TSEL_BITS + 1 + AW + CH * C_WIDTH + 2 * Z_WIDTH;
+                    + 1 + HW_WIDTH + CH * C_WIDTH + 2 * Z_WIDTH;
 reg  [FB_WIDTH-1:0] fc_reg;
 reg  [FB_WIDTH-1:0] fd_reg;
 reg  [FB_WIDTH-1:0] fe_reg;
@@ -501,18 +639,17 @@ wire [CH*I_WIDTH-1:0]  id;
 wire [C_WIDTH-1:0]     cd;
 wire [Z_WIDTH-1:0]     dzd;
 wire [Z_WIDTH-1:0]     z0d;
-wire [TSEL_BITS-1:0]   tseld;
 wire                   nerrd;
-wire [AW-1:0]          ad;
+wire [HW_WIDTH-1:0]    hwd;
 wire [CH*C_WIDTH-1:0]  dcd;
 wire [Z_WIDTH-1:0]     ddzd;
 wire [Z_WIDTH-1:0]     dz0d;
-assign {xd, yd, ld, specd, diffd, id, cd, dzd, z0d, tseld, nerrd, ad, dcd, ddzd, dz0d} = fe_reg;
+assign {xd, yd, ld, specd, diffd, id, cd, dzd, z0d, nerrd, hwd, dcd, ddzd, dz0d} = fe_reg;
 
 always @(posedge clk) begin
     if (ce) begin
         fc_reg <= {xb_reg, yb_reg, lb_reg, specb_reg, diffb_reg, ib_reg, cb_reg, dzb_reg, z0b_reg,
-                   tselb_reg, nerrb_reg, ab_reg, dcb_reg, ddzb_reg, dz0b_reg};
+                   nerrb_reg, hwb_reg, dcb_reg, ddzb_reg, dz0b_reg};
         fd_reg <= fc_reg;
         fe_reg <= fd_reg;
     end
@@ -529,9 +666,8 @@ always @(posedge clk) begin
         cb_reg <= ca_reg;
         dzb_reg <= dza_reg;
         z0b_reg <= z0a_reg;
-        tselb_reg <= tsela_reg;
         nerrb_reg <= nerra_reg;
-        ab_reg <= a_q;
+        hwb_reg <= hw_a;
         dcb_reg <= dca_reg;
         ddzb_reg <= ddza_reg;
         dz0b_reg <= dz0a_reg;
@@ -555,8 +691,7 @@ reg [Z_WIDTH-1:0]      dz_reg;
 reg [ACC_WIDTH-1:0]    dacc_reg;
 reg [Z_WIDTH-1:0]      ddz_reg;
 reg [C_WIDTH-1:0]      c_reg;
-reg [AW-1:0]           a_reg;
-reg [TSEL_BITS-1:0]    tsel_reg;
+reg [HW_WIDTH-1:0]     hw_reg;     // the highlight's word: {table, a} or the BRDF form's
 reg                    szero_reg;  // the highlight is 0 (no highlight job, or n refused)
 reg                    dzero_reg;  // the diffuse terms are 0 (no diffuse jobs)
 reg                    err_reg;    // tuser of the span's pixels
@@ -588,8 +723,7 @@ always @(posedge clk) begin
         dacc_reg <= {{LEN_WIDTH{dz0d[Z_WIDTH-1]}}, dz0d};
         ddz_reg <= ddzd;
         c_reg <= cd;
-        a_reg <= ad;
-        tsel_reg <= tseld;
+        hw_reg <= hwd;
         szero_reg <= !specd || nerrd || SPECULAR == 0;
         dzero_reg <= !diffd || DIFFUSE == 0;
         err_reg <= (specd && (nerrd || SPECULAR == 0)) || (diffd && DIFFUSE == 0);
@@ -634,10 +768,10 @@ always @(posedge clk) begin
 end
 
 // ---------------------------------------------------------------- the pixel pipeline
-// S0 is the span register (the accumulators); S1..S10 the specular stages
-// (rtl/shading_specular_pipe.v).  Beside
-// them: the Gouraud values (truncated and saturated from S0), x, y, tlast and tuser.
-localparam STAGES = 10;
+// S0 is the span register (the accumulators); S1..S(STAGES) the highlight's stages
+// (rtl/shading_specular_pipe.v, 10; rtl/shading_brdf_pipe.v, 7 + the form's).  Beside
+// them: the Gouraud values (truncated and saturated from S0), x, y, tlast and tuser, and the
+// diffuse terms (rtl/shading_specular_pipe.v, 10 stages, then held to S(STAGES)).
 localparam SIDE = X_WIDTH + Y_WIDTH + CH * I_INT + 2;
 
 reg [STAGES:1]        v_reg;
@@ -669,6 +803,7 @@ end
 localparam ROM12_ADDR = TSEL_BITS + ROM_ADDR_BITS;
 wire [OUT_WIDTH-1:0]    spec_int;
 wire [CH*OUT_WIDTH-1:0] diff_int;
+wire [CH*OUT_WIDTH-1:0] diff_out;  // the diffuse terms of the pixel in S(STAGES)
 wire [ROM12_ADDR-1:0]   spec_addr;
 wire [ROM12_ADDR-1:0]   diff_addr;
 wire [ROM_DATA_BITS-1:0] spec_q;
@@ -683,7 +818,7 @@ generate
     // registered before the table is chosen); the diffuse path reads table 0 only (n = 1 is in
     // the first k range), from a ROM of that table alone: neither read runs through a
     // multiplexer over every table's block RAMs before its first register
-    if (SPECULAR != 0) begin : g_rom12
+    if (SPECULAR != 0 && IS_SPEC) begin : g_rom12
         shading_rom #(
             .WIDTH(ROM_DATA_BITS),
             .DEPTH(1 << ROM12_ADDR),
@@ -744,7 +879,7 @@ generate
         assign diff_unused_b = {ROM_DATA_BITS{1'b0}};
     end
 
-    if (SPECULAR != 0) begin : g_highlight
+    if (SPECULAR != 0 && IS_SPEC) begin : g_highlight
         shading_specular_pipe #(
             .CHANNELS(1),
             .ACC_WIDTH(ACC_WIDTH),
@@ -761,14 +896,42 @@ generate
         ) u_highlight (
             .clk(clk),
             .acc_in(zacc_reg),
-            .a_in(a_reg),
-            .tsel_in(tsel_reg),
+            .a_in(hw_reg[AW-1:0]),
+            .tsel_in(hw_reg[HW_WIDTH-1:AW]),
             .zero_in(szero_reg),
             .c_in(c_reg),
             .rom_addr(spec_addr),
             .rom_q(spec_q),
             .intensity(spec_int)
         );
+    end else if (SPECULAR != 0 && IS_BRDF) begin : g_brdf_highlight
+        shading_brdf_pipe #(
+            .FORM(HIGHLIGHT),
+            .ACC_WIDTH(ACC_WIDTH),
+            .Z_FRAC_BITS(Z_FRAC_BITS),
+            .COS_ADDR_BITS(COS_ADDR_BITS),
+            .COS_DATA_BITS(COS_DATA_BITS),
+            .COEF_BITS(COEF_BITS),
+            .WORK_BITS(WORK_BITS),
+            .OUT_BITS(OUT_BITS),
+            .LOG_ADDR_BITS(LOG_ADDR_BITS),
+            .LOG_DATA_BITS(LOG_DATA_BITS),
+            .ANGLE_ROM_FILE(ANGLE_ROM_FILE),
+            .LOG_ROM_FILE(LOG_ROM_FILE),
+            .C_WIDTH(C_WIDTH),
+            .C_FRAC_BITS(C_FRAC_BITS),
+            .OUT_WIDTH(OUT_WIDTH),
+            .K_WIDTH(BRDF_K_WIDTH),
+            .STAGES(STAGES)
+        ) u_highlight (
+            .clk(clk),
+            .acc_in(zacc_reg),
+            .k_in(hw_reg),
+            .zero_in(szero_reg),
+            .c_in(c_reg),
+            .intensity(spec_int)
+        );
+        assign spec_addr = {ROM12_ADDR{1'b0}};
     end else begin : g_no_highlight
         assign spec_int = {OUT_WIDTH{1'b0}};
         assign spec_addr = {ROM12_ADDR{1'b0}};
@@ -787,7 +950,8 @@ generate
             .ROM_DATA_BITS(ROM_DATA_BITS),
             .C_WIDTH(C_WIDTH),
             .C_FRAC_BITS(C_FRAC_BITS),
-            .OUT_WIDTH(OUT_WIDTH)
+            .OUT_WIDTH(OUT_WIDTH),
+            .A_ONE(DIFF_A_ONE ? 1 : 0)
         ) u_diffuse (
             .clk(clk),
             .acc_in(dacc_reg),
@@ -802,6 +966,24 @@ generate
     end else begin : g_no_diffuse
         assign diff_int = {(CH*OUT_WIDTH){1'b0}};
         assign diff_addr = {ROM12_ADDR{1'b0}};
+    end
+
+    // The diffuse terms, made in 10 stages, wait for a longer highlight path
+    if (DIFFUSE != 0 && STAGES > SPEC_STAGES + 1) begin : g_diffuse_wait
+        localparam DW = STAGES - SPEC_STAGES;
+        reg [DW*CH*OUT_WIDTH-1:0] dwait_reg;
+        always @(posedge clk) begin
+            dwait_reg <= {dwait_reg[0 +: (DW-1)*CH*OUT_WIDTH], diff_int};
+        end
+        assign diff_out = dwait_reg[(DW-1)*CH*OUT_WIDTH +: CH*OUT_WIDTH];
+    end else if (DIFFUSE != 0 && STAGES == SPEC_STAGES + 1) begin : g_diffuse_wait_one
+        reg [CH*OUT_WIDTH-1:0] dwait_reg;
+        always @(posedge clk) begin
+            dwait_reg <= diff_int;
+        end
+        assign diff_out = dwait_reg;
+    end else begin : g_diffuse_now
+        assign diff_out = diff_int;
     end
 endgenerate
 
@@ -818,7 +1000,7 @@ generate
                                       side_out[X_WIDTH + Y_WIDTH + g*I_INT +: I_INT]}
                                    + {{(SUM_WIDTH-OUT_WIDTH){1'b0}}, spec_int}
                                    + {{(SUM_WIDTH-OUT_WIDTH){1'b0}},
-                                      diff_int[g*OUT_WIDTH +: OUT_WIDTH]};
+                                      diff_out[g*OUT_WIDTH +: OUT_WIDTH]};
         assign rgb[g*8 +: 8] = (total > 255) ? 8'd255 : total[7:0];
     end
 endgenerate
@@ -859,7 +1041,8 @@ shading_axis_fifo #(
 // Span-beat bits past the fields, and what a path this core was built without leaves unread
 // verilator lint_off UNUSEDSIGNAL
 wire unused_in = &{1'b0, s_axis_tdata, a_diff_q, dec_index, n_off, diff_addr, a_addr, c_reg,
-                   a_reg, tsel_reg, szero_reg, dzero_reg, dc_reg, spec_addr, spec_q, diff_q};
+                   hw_reg, szero_reg, dzero_reg, dc_reg, spec_addr, spec_q, diff_q, a_q, k_q,
+                   tsela_reg};
 // verilator lint_on UNUSEDSIGNAL
 
 endmodule

@@ -18,6 +18,12 @@
  * shares a clock with other logic).  The data
  * path has no reset (it is loaded from S0 every clock; the caller's valid flags say which
  * results are pixels).
+ *
+ * A_ONE = 1: every pixel's a is 1.0 (2^A_FRAC_BITS: the shading core's diffuse jobs, n = 1 in
+ * a k = 1 range or with the inflection-matched a), so |zeta| x a is |zeta| shifted up by
+ * A_FRAC_BITS: S3 and S4 hold |zeta| and that shift instead of the two halves' products and
+ * their sum (the same stages and latency, the same address bit for bit, no multiplier 11);
+ * a_in is not read.
  */
 
 `resetall
@@ -48,7 +54,9 @@ module shading_specular_pipe #(
     // C fraction bits
     parameter C_FRAC_BITS = 8,
     // Output intensity bits
-    parameter OUT_WIDTH = 8
+    parameter OUT_WIDTH = 8,
+    // 1: a is 1.0 for every pixel (a_in unread, no multiplier 11); 0: a_in, multiplied
+    parameter A_ONE = 0
 ) (
     input  wire                              clk,
     input  wire [ACC_WIDTH-1:0]              acc_in,
@@ -88,11 +96,15 @@ generate
         shading_specular_pipe_PARAMETER_ERROR_MAG_INT_BITS_plus_Z_FRAC_BITS_must_be_below_ACC_WIDTH
             u_error ();
     end
+    if (A_ONE != 0 && A_ONE != 1) begin : g_check_a_one
+        shading_specular_pipe_PARAMETER_ERROR_A_ONE_must_be_0_or_1 u_error ();
+    end
+    if (A_ONE == 1 && A_WIDTH <= A_FRAC_BITS) begin : g_check_a_one_width
+        shading_specular_pipe_PARAMETER_ERROR_A_ONE_needs_an_integer_bit_of_a u_error ();
+    end
 endgenerate
 
 // Per-pixel side data, delayed to the stage that uses it
-reg [A_WIDTH-1:0]          a1_reg;
-reg [A_WIDTH-1:0]          a2_reg;
 // Shift registers, the newest stage in the low bits: tsel and zero_in to S5, C to S8
 reg [5*TSEL_BITS-1:0]        tsel_reg;
 reg [4:0]                    zin_reg;
@@ -102,8 +114,6 @@ reg [MAG_WIDTH-1:0]        low_reg;
 reg                        neg_reg;
 reg                        big_reg;
 reg [MAG_WIDTH-1:0]        mag_reg;
-reg [ML+A_WIDTH-1:0]       plo_reg;
-reg [MH+A_WIDTH-1:0]       phi_reg;
 reg [PROD_WIDTH-1:0]       prod_reg;
 reg [RND_WIDTH-1:0]        addr_reg;
 reg                        zero_reg;
@@ -130,8 +140,6 @@ wire [CW-1:0]        c8 = c_reg[7*CW +: CW];
 assign rom_addr = {tsel5, addr_reg[ROM_ADDR_BITS-1:0]};
 
 always @(posedge clk) begin
-    a1_reg <= a_in;
-    a2_reg <= a1_reg;
     tsel_reg <= {tsel_reg[0 +: 4*TSEL_BITS], tsel_in};
     zin_reg <= {zin_reg[3:0], zero_in};
     c_reg <= {c_reg[0 +: 7*CW], c_in};
@@ -140,14 +148,39 @@ always @(posedge clk) begin
     neg_reg <= acc_neg;
     big_reg <= acc_big;
     mag_reg <= mag_next;
-    plo_reg <= mag_reg[ML-1:0] * a2_reg;
-    phi_reg <= mag_reg[MAG_WIDTH-1:ML] * a2_reg;
-    prod_reg <= {{MH{1'b0}}, plo_reg} + ({{ML{1'b0}}, phi_reg} << ML);
     addr_reg <= prod_rnd[PROD_WIDTH:SHIFT];
     zero_reg <= rom_ovf || zin_reg[4];
     zero2_reg <= zero_reg;
     rom_d_reg <= zero2_reg ? {ROM_DATA_BITS{1'b0}} : rom_q;
 end
+
+// S2 -> S3 -> S4: |zeta| x a
+generate
+    if (A_ONE == 1) begin : g_a_one
+        // a = 2^A_FRAC_BITS: the product is |zeta| shifted, S3 holds |zeta| itself
+        reg [MAG_WIDTH-1:0] mag3_reg;
+        always @(posedge clk) begin
+            mag3_reg <= mag_reg;
+            prod_reg <= {{(A_WIDTH-A_FRAC_BITS){1'b0}}, mag3_reg, {A_FRAC_BITS{1'b0}}};
+        end
+        // verilator lint_off UNUSEDSIGNAL
+        wire unused_a = &{1'b0, a_in};
+        // verilator lint_on UNUSEDSIGNAL
+    end else begin : g_multiplier_11
+        // Multiplier 11: the two halves of |zeta| times a (S3), their sum (S4)
+        reg [A_WIDTH-1:0]    a1_reg;
+        reg [A_WIDTH-1:0]    a2_reg;
+        reg [ML+A_WIDTH-1:0] plo_reg;
+        reg [MH+A_WIDTH-1:0] phi_reg;
+        always @(posedge clk) begin
+            a1_reg <= a_in;
+            a2_reg <= a1_reg;
+            plo_reg <= mag_reg[ML-1:0] * a2_reg;
+            phi_reg <= mag_reg[MAG_WIDTH-1:ML] * a2_reg;
+            prod_reg <= {{MH{1'b0}}, plo_reg} + ({{ML{1'b0}}, phi_reg} << ML);
+        end
+    end
+endgenerate
 
 // S8 -> S9 -> S10 per channel: multiplier 13, rounding, saturation
 genvar ch;

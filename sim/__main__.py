@@ -17,8 +17,9 @@ Commands:
           The shading core: the scene's span stream through the core's RTL
           (``sim.core_run``, the stream bench under the same simulator), the frame compared with
           the model's byte for byte, and its measured pixels per clock, with Mpx/s at the core's
-          placed Fmax (docs/synth.json, ``make synth``), for methods (c) and (h) on the scene
-          and for every built-in scene and method at the same size (``--no-core`` skips it)
+          placed Fmax (docs/synth.json, ``make synth``), for methods (c) and (h) and the
+          highlight through each BRDF form on the scene, and for every built-in scene and
+          method (the BRDF methods among them) at the same size (``--no-core`` skips it)
 
 Argument checks are this module's own (``sim`` sits below ``model.cli``): a bad value is refused
 in one line naming the argument, its value and what is allowed, exit status 2, before any work.
@@ -269,7 +270,8 @@ CORE_PART = "ecp5-25f"
 CORE_TARGET_PX_PER_CLOCK = 0.9
 CORE_CONFIG = {"diffuse": "default"}
 """The core configuration of docs/synth.json (sim/synth_tops.py) each method's Mpx/s takes
-the Fmax of; "hybrid" for the rest."""
+the Fmax of: "default" for (h), "brdf_<form>" for a BRDF method (where make synth places it),
+"hybrid" for the rest."""
 
 
 def core_fmax(config: str, part: str = CORE_PART) -> float | None:
@@ -291,24 +293,26 @@ def core_fmax(config: str, part: str = CORE_PART) -> float | None:
 
 
 def core_bench(source: scenefile.SceneSource, size: int, sim: str, config=None) -> int:
-    """The scene's span stream through the core's RTL for (c) and (h) (or ``config``), then
-    every built-in scene and method at ``size``: frame equal, pixels per clock, Mpx/s."""
+    """The scene's span stream through the core's RTL for (c), (h) and each BRDF method (or
+    ``config``), then every built-in scene and method at ``size``: frame equal, pixels per
+    clock, Mpx/s."""
     from model.render import pipeline
     from sim import core_run
 
     print(f"== the shading core (rtl/shading_core.f) under {sim}, output always ready ==")
-    runs = [(source.label, source.scene(size, size), name) for name in ("hybrid", "diffuse")]
+    first = ("hybrid", "diffuse", *pipeline.BRDF_METHODS)
+    runs = [(source.label, source.scene(size, size), name) for name in first]
     if config is not None:
         runs = [(source.label, source.scene(size, size), config)]
     if config is None:
         runs += [
             (name, name, method)
             for name in scenefile.SCENE_NAMES
-            for method in pipeline.METHODS
-            if (name, method) not in ((source.label, "hybrid"), (source.label, "diffuse"))
+            for method in (*pipeline.METHODS, *pipeline.BRDF_METHODS)
+            if (name, method) not in {(source.label, m) for m in first}
         ]
     status = 0
-    print(f"  {'scene':<10} {'method':<11} {'pixels':>8} {'clocks':>8} {'model':>8} "
+    print(f"  {'scene':<10} {'method':<16} {'pixels':>8} {'clocks':>8} {'model':>8} "
           f"{'px/clk':>7} {'Mpx/s':>7}  frame")  # fmt: skip
     for label, target, method in runs:
         try:
@@ -317,13 +321,14 @@ def core_bench(source: scenefile.SceneSource, size: int, sim: str, config=None) 
             print(f"FAIL: {label} {method}: {exc}")
             return 1
         mname = method if isinstance(method, str) else "config"
-        # a configuration of its own has no placed Fmax in docs/synth.json; (h) runs on the
-        # default core (both paths), every other method on the hybrid core's (the highlight's)
-        fmax = None if mname == "config" else core_fmax(CORE_CONFIG.get(mname, "hybrid"))
+        # a configuration of its own has no placed Fmax in docs/synth.json (CORE_CONFIG)
+        brdf = mname in pipeline.BRDF_METHODS
+        fmax = core_fmax(f"brdf_{mname}" if brdf else CORE_CONFIG.get(mname, "hybrid"))
+        fmax = None if mname == "config" else fmax
         mpx = f"{r.run.px_per_clock * fmax:7.1f}" if fmax else "     --"
         same = "equal" if r.equal and r.run.cycles == r.model_cycles else "DIFFERS"
         status |= 0 if same == "equal" else 1
-        print(f"  {label:<10} {mname:<11} {r.run.pixels:>8} {r.run.cycles:>8} "
+        print(f"  {label:<10} {mname:<16} {r.run.pixels:>8} {r.run.cycles:>8} "
               f"{r.model_cycles:>8} {r.run.px_per_clock:>7.4f} {mpx}  {same}")  # fmt: skip
         if label == source.label and mname in ("hybrid", "diffuse"):
             met = "met" if r.run.px_per_clock >= CORE_TARGET_PX_PER_CLOCK else "not met"
@@ -340,8 +345,9 @@ def core_bench(source: scenefile.SceneSource, size: int, sim: str, config=None) 
                   f"(pipeline.build_jobs), {host.spans_per_second / 1e6:.3f} M/s packed "
                   f"(+ core.span_beats): {short:.0f}x short")  # fmt: skip
     print(f"  Mpx/s = px/clk x the placed Fmax on the {CORE_PART} of the default core (both "
-          f"paths) for (h) and of the hybrid core (the highlight path) for the others "
-          "(docs/synth.json; -- where make synth has not placed it)")  # fmt: skip
+          f"paths) for (h), of the BRDF form's core for a BRDF method and of the hybrid core "
+          "(the highlight path) for the others (docs/synth.json; -- where make synth has not "
+          "placed it)")  # fmt: skip
     return status
 
 

@@ -19,7 +19,7 @@ from pathlib import Path
 from model.hw.sources import source_list
 from model.hw.synth import synth_parameters
 from model.render import core
-from model.render.pipeline import PipelineConfig
+from model.render.pipeline import BRDF_METHODS, METHODS, PipelineConfig
 from model.units import divider, gouraud, specular
 from sim import vector_run
 from sim.runner import SIM_BUILD, object_cache
@@ -58,7 +58,24 @@ def parameters(cfg: PipelineConfig, rom_dir: Path | None = None, **kw) -> dict[s
     params["RECIP_ROM_FILE"] = synth_parameters("divider_shift", cfg.divider, rom_dir)["ROM_FILE"]
     spec = synth_parameters("specular_unit", cfg.specular, rom_dir)
     params["A_ROM_FILE"], params["COS_ROM_FILE"] = spec["A_ROM_FILE"], spec["COS_ROM_FILE"]
+    if cfg.brdf is not None:
+        own = synth_parameters("brdf_unit", cfg.brdf, rom_dir)
+        for name in ("ANGLE_ROM_FILE", "COEF_ROM_FILE", "LOG_ROM_FILE"):
+            if name in params:
+                params[name] = own[name]
     return params
+
+
+def method_config(method: str | PipelineConfig) -> PipelineConfig:
+    """A method's pipeline configuration: a name of ``pipeline.METHODS`` or of
+    ``pipeline.BRDF_METHODS`` (the hybrid with the highlight through a BRDF form), or a
+    ``PipelineConfig`` itself."""
+    if isinstance(method, PipelineConfig):
+        return method
+    known = {**METHODS, **BRDF_METHODS}
+    if method not in known:
+        raise ValueError(f"method = {method!r} is out of range: legal are {', '.join(known)}")
+    return known[method]
 
 
 def _verilog(params: dict[str, object]) -> dict[str, str]:
@@ -225,7 +242,7 @@ def cosimulate(
 
     from model.render import pipeline, raster, scene, scenefile, shade
 
-    cfg = method if isinstance(method, PipelineConfig) else pipeline.METHODS[method]
+    cfg = method_config(method)
     if isinstance(scene_name, scene.Scene):
         frame_scene = scene_name
     else:
@@ -251,14 +268,16 @@ def cosimulate(
 
     rtl_rgb = shade.shade(frame_raster, replay).rgb
     model_rgb = shade.shade(frame_raster, pipeline.unit_shader(cfg)).rgb
-    return FrameResult(rtl_rgb, model_rgb, result, core.core_cycles(stream.total_pixels))
+    model_cycles = core.core_cycles(stream.total_pixels, cfg, bool(params["SPECULAR"]))
+    return FrameResult(rtl_rgb, model_rgb, result, model_cycles)
 
 
 def shipped_configs() -> dict[str, PipelineConfig]:
     """The core configurations users ship besides the default, which the stream bench runs
     (tests/test_core.py) and make coverage measures: narrow widths (4-bit Gouraud levels and
     4-bit highlights, the sum's width at its smallest), the kept range of n (N_FIRST > 1, as
-    shading fit emits; no diffuse path) and the UP5K tables."""
+    shading fit emits; no diffuse path), the UP5K tables, and the highlight through each BRDF
+    form with a pipe in the core at its default widths (``BRDF_METHODS``: "brdf_<form>")."""
     return {
         "narrow": PipelineConfig(
             divider=divider.DividerConfig(a_width=9, k_width=7, recip_bits=8),
@@ -272,6 +291,7 @@ def shipped_configs() -> dict[str, PipelineConfig]:
             specular=specular.KEPT,
         ),
         "up5k": PipelineConfig(specular=specular.UP5K, diffuse_mode="unit"),
+        **{f"brdf_{form}": BRDF_METHODS[form] for form in core.CORE_FORMS},
     }
 
 
@@ -284,8 +304,6 @@ VECTOR_SEED = 2026
 def vector_set_words(cfg: PipelineConfig | None = None) -> list[int]:
     """The committed set's span beats: ``VECTOR_SPANS`` random spans (``random_spans``), every
     field in its range, the longest span and one-pixel spans among them."""
-    from model.render.pipeline import METHODS
-
     cfg = cfg or METHODS["diffuse"]
     fmt = core.SpanFormat(cfg)
     import numpy as np
@@ -297,14 +315,19 @@ def vector_set_words(cfg: PipelineConfig | None = None) -> list[int]:
     return random_spans(fmt, lengths, VECTOR_SEED)
 
 
-def random_spans(fmt: core.SpanFormat, lengths, seed: int) -> list[int]:
+def random_spans(fmt: core.SpanFormat, lengths, seed: int, lit: float = 0.0) -> list[int]:
     """Span beats of ``lengths`` pixels, every other field random in its range (n from 0 to
-    1023: the refused ones included)."""
+    1023: the refused ones included).  ``lit``: the share of spans whose highlight is lit
+    (spec set, n log-uniform over 1..1000, z0 within the width of cos^n, pi/2 / sqrt(n), of the
+    highlight's centre, dz small enough that most of the span stays there: the highlight's
+    value in most pixels, and neighbouring spans of different n, which a random angle, mostly
+    beyond pi/2, leaves dark); 0 draws the same beats as before it was added."""
     import numpy as np
 
     rng = np.random.default_rng(seed)
     g, s = fmt.cfg.gouraud, fmt.cfg.specular
     z_lo, z_hi = s.z_format.lo, s.z_format.hi
+    half_pi = 1 << s.z_frac_bits
     layout = fmt.layout()
     words = []
     for n_px in (int(v) for v in lengths):
@@ -325,14 +348,22 @@ def random_spans(fmt: core.SpanFormat, lengths, seed: int) -> list[int]:
             row[f"i_start{c}"] = int(rng.integers(0, 1 << g.i_width))
             row[f"i_end{c}"] = int(rng.integers(0, 1 << g.i_width))
             row[f"diff_c{c}"] = int(rng.integers(0, 1 << s.c_width))
+        if lit and rng.random() < lit:
+            n = int(np.clip(round(1000.0 ** rng.random()), 1, 1000))
+            width = int(half_pi / np.sqrt(n))  # cos^n falls to about e^-1.2 there
+            reach = int(rng.integers(-width, width + 1)) // max(n_px - 1, 1)
+            row.update(
+                spec=1,
+                z0=int(rng.integers(-width, width + 1)),
+                dz=max(z_lo, min(z_hi, reach >> int(rng.integers(0, 4)))),
+                n=n,
+            )
         words.append(core.pack(layout, row))
     return words
 
 
 def vector_set_text(cfg: PipelineConfig | None = None) -> tuple[str, str]:
     """(spans.hex, pixels.hex) of the committed set: the span beats and the model's beats."""
-    from model.render.pipeline import METHODS
-
     cfg = cfg or METHODS["diffuse"]
     fmt = core.SpanFormat(cfg)
     pix = core.PixelFormat(fmt.x_width, fmt.y_width)
@@ -386,7 +417,7 @@ def setup_rate(scene_name="teapot", size: int = 256, method="hybrid", repeats: i
 
     from model.render import pipeline, raster, scene, scenefile, shade
 
-    cfg = method if isinstance(method, PipelineConfig) else pipeline.METHODS[method]
+    cfg = method_config(method)
     if isinstance(scene_name, scene.Scene):
         frame = raster.rasterise(scene_name)
     else:

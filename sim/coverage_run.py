@@ -243,16 +243,18 @@ def run_unit_replay(r: Replay, work: Path) -> tuple[Path, str]:
 
 def core_words(r: CoreReplay) -> list[int]:
     """``r.spans`` random span beats (``core_run.random_spans``: every field random in its
-    range, 1 to 23 pixels), then n set: at the decoder's and the kept range's edges in the
-    first beats, inside the kept range in a third of the others (a uniform n in 0..1023 hits
-    a small table or a short kept range a few times in a thousand); and full-scale ramps,
+    range, 1 to 23 pixels; with a BRDF highlight half of them lit, its values in most pixels),
+    then n set: at the decoder's and the kept range's edges in the first beats, inside the kept
+    range in a third of the others with the specular unit's highlight (a uniform n in 0..1023
+    hits a small table or a short kept range a few times in a thousand); and full-scale ramps,
     down in some channels and up in the others, of 24 lengths up to the longest span."""
     fmt = core.SpanFormat(r.cfg)
     layout, s, g = fmt.layout(), r.cfg.specular, r.cfg.gouraud
     rng = np.random.default_rng(CORE_SEED)
     lengths = rng.integers(1, 24, r.spans)
     lengths[[0, r.spans // 2]] = g.len_max
-    words = core_run.random_spans(fmt, lengths, CORE_SEED)
+    brdf = r.cfg.brdf is not None
+    words = core_run.random_spans(fmt, lengths, CORE_SEED, lit=0.5 if brdf else 0.0)
     edges = sorted({0, 1, *s.n_hi, *(h + 1 for h in s.n_hi), s.n_first - 1, s.n_first})
     edges = [n for n in {*edges, s.n_last, s.n_last + 1, (1 << core.N_WIDTH) - 1} if n >= 0]
     top = (1 << g.i_width) - 1
@@ -261,7 +263,7 @@ def core_words(r: CoreReplay) -> list[int]:
         row = core.unpack(layout, word)
         if i < len(edges):
             row["n"] = sorted(edges)[i]
-        elif rng.random() < 1 / 3:
+        elif not brdf and rng.random() < 1 / 3:
             row["n"] = int(rng.integers(s.n_first, s.n_last + 1))
         out.append(core.pack(layout, row))
     for i, pixels in enumerate(sorted({int(v) for v in np.linspace(2, g.len_max, 24)})):

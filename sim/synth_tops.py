@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """The tops beside the units that ``make synth`` places and routes (``scripts/synth.py``), each
 with its named configurations: the streaming shading core (``rtl/shading_core.f``) at pipeline
-configurations of ``model.render.pipeline.METHODS``.
+configurations of ``model.render.pipeline.METHODS`` and ``BRDF_METHODS``.
 
 ``model.hw`` sits beside ``model.render`` and cannot import it, so a top's Verilog parameters
 are made here, one layer up, by ``sim.core_run.parameters`` (``core.core_parameters`` with every
@@ -15,13 +15,19 @@ from __future__ import annotations
 from pathlib import Path
 
 from model.hw import SynthResult, synthesise_top
-from model.render.pipeline import METHODS
 from sim import core_run
 
-# top -> configuration name -> the METHODS entry it is built from.  "default": both the
-# highlight and the diffuse path (METHODS["diffuse"]); "hybrid": the highlight path only.
+# top -> configuration name -> the METHODS or BRDF_METHODS entry it is built from (a name
+# ``core_run.method_config`` takes).  "default": both the highlight and the diffuse path
+# (METHODS["diffuse"]); "hybrid": the highlight path only; "brdf_<form>": the highlight path
+# through that BRDF form (its pipe, rtl/shading_brdf_pipe.v), the two small forms.
 TOPS: dict[str, dict[str, str]] = {
-    "shading_core": {"default": "diffuse", "hybrid": "hybrid"},
+    "shading_core": {
+        "default": "diffuse",
+        "hybrid": "hybrid",
+        "brdf_cosine_quadratic": "cosine_quadratic",
+        "brdf_log2": "log2",
+    },
 }
 
 
@@ -39,7 +45,7 @@ def parameters(top: str, config: str = "default", rom_dir: Path | None = None) -
         raise ValueError(
             f"config {config!r} is unknown for {top}: named configurations are {', '.join(named)}"
         )
-    return core_run.parameters(METHODS[named[config]], rom_dir)
+    return core_run.parameters(core_run.method_config(named[config]), rom_dir)
 
 
 def synthesise(

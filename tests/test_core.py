@@ -12,8 +12,8 @@ import pytest
 
 from model.hw.sources import source_list
 from model.render import core
-from model.render.pipeline import METHODS, PipelineConfig
-from model.units import gouraud, specular
+from model.render.pipeline import BRDF_METHODS, METHODS, PipelineConfig
+from model.units import brdf, gouraud, specular
 from sim import core_run
 
 pytestmark = pytest.mark.sim
@@ -21,12 +21,15 @@ pytestmark = pytest.mark.sim
 DEFAULT = METHODS["diffuse"]  # both paths: the highlight and the diffuse jobs
 
 
-def random_words(fmt: core.SpanFormat, count: int, seed: int, lengths=None) -> list[int]:
+def random_words(
+    fmt: core.SpanFormat, count: int, seed: int, lengths=None, lit: float = 0.0
+) -> list[int]:
     """Span beats with every field random in its range (``lengths``: the pixels of each; by
-    default 1..23), from ``core_run.random_spans``."""
+    default 1..23; ``lit``: the share of spans with a lit highlight), from
+    ``core_run.random_spans``."""
     if lengths is None:
         lengths = np.random.default_rng(seed + 1).integers(1, 24, count)
-    return core_run.random_spans(fmt, lengths, seed)
+    return core_run.random_spans(fmt, lengths, seed, lit)
 
 
 # ------------------------------------------------------------------------------ the formats
@@ -103,6 +106,93 @@ def test_the_core_model_gives_the_pipeline_image_on_a_scene():
         assert np.array_equal(got, want), name
 
 
+def test_the_core_model_of_a_brdf_highlight_gives_the_pipeline_image():
+    """core_pixels with the highlight through a BRDF unit (brdf.unit.unit_line per span) = the
+    pipeline's image with ``PipelineConfig.brdf`` (brdf.lines.shade_lines), every form."""
+    from model.render import pipeline, raster, scenefile, shade
+
+    frame = raster.rasterise(scenefile.builtin_scene("sphere", 40, 40))
+    for name, cfg in BRDF_METHODS.items():
+        fmt = core.SpanFormat(cfg)
+        stream = core.frame_stream(frame, cfg, fmt)
+        pixels = core.core_pixels(stream.words, fmt)
+        rgb = np.array([[p["r"], p["g"], p["b"]] for p in pixels], dtype=np.uint8)
+        per, at = {}, 0
+        for obj, n in zip(stream.objects, stream.pixels, strict=True):
+            per[obj] = rgb[at : at + n]
+            at += n
+        got = shade.shade(frame, lambda spans, ctx, per=per: per[ctx.obj]).rgb
+        want = shade.shade(frame, pipeline.unit_shader(cfg)).rgb
+        assert np.array_equal(got, want), name
+        assert not np.array_equal(want, shade.shade(frame, pipeline.unit_shader(METHODS[
+            "hybrid"])).rgb), name  # fmt: skip
+
+
+def test_the_latency_follows_the_highlight_path():
+    """18 clocks with the patent's highlight path (and without one); with a BRDF form the
+    span pipe, its front and back (7) and the form's stages (brdf.FORM_LATENCY), the FIFO."""
+    assert core.latency() == core.LATENCY == 18
+    assert core.latency(METHODS["gouraud"]) == core.LATENCY
+    for form, cfg in BRDF_METHODS.items():
+        stages = core.BRDF_FRONT_BACK + brdf.FORM_LATENCY[form]
+        assert core.highlight_stages(cfg) == stages
+        assert core.latency(cfg) == core.SPAN_PIPE + stages + 2
+        assert core.latency(cfg, specular_path=False) == core.LATENCY
+        assert core.core_cycles(100, cfg) == core.latency(cfg) + 100
+    assert {f: core.latency(c) for f, c in BRDF_METHODS.items()} == {
+        "cosine_quadratic": 20, "quadratic": 21, "cubic": 28, "log2": 22}  # fmt: skip
+    assert set(core.CORE_FORMS) <= set(brdf.RTL_FORMS)
+    # docs/core.md's table, "Timing", is these
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "core.md").read_text()
+    section = text.split("## Timing\n", 1)[1].split("\n## ", 1)[0]
+    for name, cfg in (("specular", METHODS["hybrid"]), *BRDF_METHODS.items()):
+        row = (f"| `{name}` | {core.highlight_stages(cfg)} | {core.pixel_pipe(cfg)} | "
+               f"{core.latency(cfg)} |")  # fmt: skip
+        assert row in section, row
+
+
+def test_a_configuration_the_core_cannot_build_is_refused_by_name(monkeypatch):
+    """A BRDF form without a pipe in the core (here: the cubic, taken out of CORE_FORMS as a
+    form with RTL but no core pipe would be), and an output FIFO that the pixels in flight
+    would fill: ValueError naming the field, its value and what is legal."""
+    cfg = BRDF_METHODS["cubic"]
+    with pytest.raises(ValueError, match=r"fifo_depth = 16 is out of range: legal is a power "
+                       r"of two from 16 to 4096 above the 22 pixels in flight"):  # fmt: skip
+        core.core_parameters(cfg, fifo_depth=16)
+    with pytest.raises(ValueError, match="fifo_depth = 48 is out of range"):
+        core.core_parameters(METHODS["hybrid"], fifo_depth=48)
+    assert core.core_parameters(METHODS["hybrid"], fifo_depth=16)["FIFO_DEPTH"] == 16
+    monkeypatch.setattr(core, "CORE_FORMS", ("cosine_quadratic", "quadratic", "log2"))
+    says = r"brdf form = 'cubic' is out of range for the shading core: its highlight path takes"
+    fmt = core.SpanFormat(cfg)
+    for call in (
+        lambda: core.core_parameters(cfg),
+        lambda: core.core_pixels([0], fmt),
+        lambda: core.core_cycles(10, cfg),
+    ):
+        with pytest.raises(ValueError, match=says):
+            call()
+
+
+def test_the_diffuse_pipe_shifts_exactly_where_rom_9_holds_one_for_n_1():
+    """The core derives from K0 and ALPHA that the diffuse jobs' a (ROM 9's word of n = 1) is
+    1.0 and then shifts instead of multiplying (rtl/shading_core.v DIFF_A_ONE): the model's
+    word agrees for the patent's, the thesis's and the prototype's a, at every width."""
+    from dataclasses import replace
+
+    from model.units.specular import config as spec_config
+
+    for cfg in (specular.DEFAULT, specular.INFLECTION, specular.PROTOTYPE, specular.NARROW,
+                specular.UP5K, replace(specular.PROTOTYPE, alpha="inflection")):  # fmt: skip
+        one = cfg.k_ranges[0][2] == 1 or cfg.alpha == "inflection"
+        word = int(spec_config.a_words(cfg)[1])
+        assert one == (word == 1 << cfg.a_frac_bits), cfg
+    rtl = (core_run.vector_run.RTL_DIR / "shading_core.v").read_text()
+    assert "localparam DIFF_A_ONE = (K0 == 1) || (ALPHA == ALPHA_INFLECTION);" in rtl
+
+
 # ------------------------------------------------------------------------------ the RTL
 
 
@@ -129,6 +219,94 @@ def test_teapot_256_through_the_core_is_the_model_frame_at_one_pixel_per_clock(
 
     record = {"unit": "shading_core", "test": method, "jobs": r.run.spans, "errors": 0}
     record_sim(request, [{**record, "compared": r.run.pixels, "cycles": r.run.cycles}])
+
+
+@pytest.mark.parametrize("form", list(BRDF_METHODS))
+def test_teapot_256_through_a_brdf_highlight_is_the_model_frame_at_one_pixel_per_clock(
+    form, request, teapot_file
+):
+    """The teapot with the highlight through each BRDF form's pipe (BRDF_METHODS): the frame
+    from the pixel beats equals the model's byte for byte, in the clocks the model gives
+    (core.latency of the form + pixels); docs/core.md's table gives these figures."""
+    cfg = BRDF_METHODS[form]
+    r = core_run.cosimulate("teapot", 256, form, tag=f"core_teapot_{form}")
+    assert r.equal
+    assert r.run.cycles == r.model_cycles == core.latency(cfg) + r.run.pixels
+    assert r.run.px_per_clock >= 0.9
+    from pathlib import Path
+
+    from tests.conftest import record_sim
+
+    text = (Path(__file__).resolve().parents[1] / "docs" / "core.md").read_text()
+    row = f"| `{form}` | {core.latency(cfg)} | {r.run.pixels} | {r.run.cycles} | " \
+          f"{r.run.px_per_clock:.4f} |"  # fmt: skip
+    assert row in text, row
+    record = {"unit": "shading_core", "test": f"teapot_{form}", "jobs": r.run.spans, "errors": 0}
+    record_sim(request, [{**record, "compared": r.run.pixels, "cycles": r.run.cycles}])
+
+
+@pytest.mark.parametrize("form", list(BRDF_METHODS))
+def test_random_spans_through_a_brdf_highlight_are_scoreboarded(form):
+    """Random span beats, most with a lit highlight (back-to-back spans of different n, one
+    pixel or the longest, n refused among them: tuser), random idles and stalls: every pixel
+    beat equals the model's (the form's word of n travels with its pixels); with the diffuse
+    path built beside it (DIFFUSE = 1, the diffuse terms waiting for the longer highlight) for
+    the log2 form."""
+    cfg = BRDF_METHODS[form]
+    fmt = core.SpanFormat(cfg)
+    longest = cfg.gouraud.len_max
+    lengths = [1] * 40 + [longest, 2, 1, 5] + [3] * 30 + [1, 2] * 15
+    words = random_words(fmt, len(lengths), seed=17, lengths=lengths, lit=0.7)
+    layout = fmt.layout()
+    for at, n in ((5, 0), (6, 1001), (7, 1023)):  # refused n between lit spans: tuser
+        words[at] = core.pack(layout, {**core.unpack(layout, words[at]), "spec": 1, "n": n})
+    diffuse = form == "log2"
+    params = core_run.parameters(cfg, diffuse_path=diffuse)
+    r = core_run.run_words(words, fmt, params, idle_pct=30, stall_pct=40, seed=3,
+                           tag=f"core_rand_{form}")  # fmt: skip
+    assert r.mismatches == []
+    assert r.pixels == sum(lengths) and r.stalls > 0
+    want = core.core_pixels(words, fmt, diffuse_path=diffuse)
+    dark = core.core_pixels(words, fmt, specular_path=False, diffuse_path=diffuse)
+    lit_spans, at = 0, 0
+    for n_px in lengths:
+        got, off = want[at : at + n_px], dark[at : at + n_px]
+        lit_spans += any((p["r"], p["g"], p["b"]) != (q["r"], q["g"], q["b"])
+                         for p, q in zip(got, off, strict=True))  # fmt: skip
+        at += n_px
+    assert lit_spans > len(lengths) // 2 and any(p["n_err"] for p in want)
+
+
+def test_a_cubic_coefficient_a_stage_late_is_caught_with_the_span_that_shows_it(tmp_path):
+    """The saved mutant shading_brdf_pipe_cubic_b1_early (tests/mutants): the cubic's b1 taken
+    from the pixel a stage behind.  Spans of one n each leave it unseen (unlit spans too); the
+    lit back-to-back spans of random n show it, naming the pixel and its span beat."""
+    from tests import mutants
+
+    mutant = mutants.build("shading_brdf_pipe_cubic_b1_early", tmp_path)
+    rtl = [mutant if p.name == "shading_brdf_pipe.v" else p for p in source_list("shading_core")]
+    cfg = BRDF_METHODS["cubic"]
+    fmt = core.SpanFormat(cfg)
+    params = core_run.parameters(cfg)
+    unlit = random_words(fmt, 60, seed=3)
+    r = core_run.run_words(unlit, fmt, params, tag="core_mutant_b1", rtl=rtl)
+    assert r.mismatches == []
+    lit = random_words(fmt, 60, seed=3, lit=0.8)
+    r = core_run.run_words(lit, fmt, params, tag="core_mutant_b1", rtl=rtl)
+    assert r.mismatches and "span beat 0x" in r.mismatches[0]
+
+
+def test_the_diffuse_path_keeps_multiplier_11_where_a_of_n_1_is_not_one():
+    """The prototype's one cos^2 table gives n = 1 the a sqrt(1/2): the diffuse pipe keeps its
+    multiplier and ROM 9's second port (DIFF_A_ONE = 0); every pixel compared."""
+    cfg = PipelineConfig(specular=specular.PROTOTYPE, diffuse_mode="unit")
+    fmt = core.SpanFormat(cfg)
+    words = random_words(fmt, 80, seed=21)
+    params = core_run.parameters(cfg, core_run.SIM_BUILD / "core_prototype_roms")
+    r = core_run.run_words(words, fmt, params, idle_pct=20, stall_pct=30, seed=2,
+                           tag="core_prototype")  # fmt: skip
+    assert r.mismatches == []
+    assert any(p["diff"] for p in (core.unpack(fmt.layout(), w) for w in words))
 
 
 @pytest.mark.parametrize("scene", ["sphere", "torus", "teapot", "quad"])
@@ -185,6 +363,19 @@ def test_a_broken_core_is_caught_with_the_span_that_shows_it(tmp_path):
         ({"K3": 65}, "specular_unit_PARAMETER_ERROR_K_of_a_table_must_be_1_to_64"),
         ({"ALPHA": "cubic"}, "specular_unit_PARAMETER_ERROR_ALPHA_must_be_taylor_or_inflection"),
         ({"RECIP_BITS": 9}, "K_WIDTH_must_be_1_to_RECIP_BITS_plus_1"),
+        # the highlight's unit: a name without a pipe; a BRDF form's pixels in flight
+        ({"HIGHLIGHT": "phong"}, "HIGHLIGHT_must_be_specular_or_a_BRDF_form_with_a_pipe"),
+        ({"HIGHLIGHT": "piecewise"}, "HIGHLIGHT_must_be_specular_or_a_BRDF_form_with_a_pipe"),
+        ({"HIGHLIGHT": "cubic", "FIFO_DEPTH": 16}, "FIFO_DEPTH_must_exceed_the_pixels_in_flight"),
+        # the BRDF unit's own rules, by its own names
+        (
+            {"HIGHLIGHT": "quadratic", "COEF_BITS": 9},
+            "brdf_unit_PARAMETER_ERROR_COEF_BITS_must_be_10_to_32_for_the_quadratic_form",
+        ),
+        (
+            {"HIGHLIGHT": "log2", "COS_ADDR_BITS": 27},
+            "brdf_unit_PARAMETER_ERROR_COS_ADDR_BITS_must_be_2_to_16_and_at_most_Z_FRAC_BITS",
+        ),
     ],
 )
 def test_a_bad_parameter_stops_elaboration_naming_the_rule(override, rule):
@@ -218,16 +409,18 @@ def test_the_data_sheet_gives_every_field_bit_by_bit_as_the_packer_packs_it():
 
 
 def test_sim_bench_prints_every_scene_and_method_through_the_core(capsys, teapot_file):
-    """``python -m sim bench``'s core table: every built-in scene and method, the frame equal
-    to the model's and the clocks the model gives, the (c) and (h) targets on the scene."""
+    """``python -m sim bench``'s core table: every built-in scene and method (the BRDF methods
+    among them), the frame equal to the model's and the clocks the model gives, the (c) and (h)
+    targets on the scene."""
     from model.render import scenefile
     from sim.__main__ import core_bench
 
     assert core_bench(scenefile.SceneSource("builtin", "teapot"), 24, "icarus") == 0
     out = capsys.readouterr().out
     rows = [line.split() for line in out.splitlines() if line.startswith("  ") and "equal" in line]
-    assert len(rows) == len(scenefile.SCENE_NAMES) * len(METHODS)
-    assert {(r[0], r[1]) for r in rows} == {(s, m) for s in scenefile.SCENE_NAMES for m in METHODS}
+    methods = [*METHODS, *BRDF_METHODS]
+    assert len(rows) == len(scenefile.SCENE_NAMES) * len(methods)
+    assert {(r[0], r[1]) for r in rows} == {(s, m) for s in scenefile.SCENE_NAMES for m in methods}
     for r in rows:
         assert r[3] == r[4] and float(r[5]) == pytest.approx(int(r[2]) / int(r[3]), abs=1e-4)
     assert out.count("px/clk: ") == 2  # the (c) and (h) target lines (met at 256, not at 24)
@@ -417,16 +610,25 @@ def test_the_data_sheet_s_resources_are_the_synthesis_record():
     section = text.split("## Resources\n", 1)[1].split("\n## ", 1)[0]
     rows = [line for line in section.splitlines() if line.startswith("| ") and "---" not in line]
     assert rows[1:] == want
+    # what the prose says of the BRDF highlights' cores on the ECP5-25F
+    ecp5 = {r["config"]: r for r in record if r["unit"] == "shading_core" and r["part"] ==
+            "ecp5-25f"}  # fmt: skip
+    for name in ("brdf_cosine_quadratic", "brdf_log2"):
+        r = ecp5[name]
+        assert r["fits"] and r["fmax_mhz"] >= 100 and r["bram"] < ecp5["hybrid"]["bram"]
+        assert r["dsp"] > ecp5["hybrid"]["dsp"], name
+    assert ecp5["default"]["dsp"] == 18 and "18 DSP blocks on the ECP5-25F" in section
 
 
 @pytest.mark.parametrize("name", sorted(core_run.shipped_configs()))
 def test_the_configurations_users_ship_through_the_core(name):
     """Narrow widths (4-bit Gouraud levels and 4-bit highlights: the sum's width at its
-    smallest), the kept range of n (N_FIRST > 1, as shading fit emits; no diffuse path) and
-    the UP5K tables: random span beats, idles and stalls, every pixel compared."""
+    smallest), the kept range of n (N_FIRST > 1, as shading fit emits; no diffuse path), the
+    UP5K tables and each BRDF form's highlight: random span beats (half of them lit), idles
+    and stalls, every pixel compared."""
     cfg = core_run.shipped_configs()[name]
     fmt = core.SpanFormat(cfg)
-    words = random_words(fmt, 120, seed=9)
+    words = random_words(fmt, 120, seed=9, lit=0.5 if cfg.brdf is not None else 0.0)
     params = core_run.parameters(cfg, core_run.SIM_BUILD / f"core_{name}_roms")
     r = core_run.run_words(words, fmt, params, idle_pct=20, stall_pct=30, seed=5,
                            tag=f"core_{name}")  # fmt: skip

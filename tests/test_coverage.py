@@ -135,3 +135,43 @@ def test_the_core_s_gouraud_accumulator_bound_holds_for_every_span():
         e = length * di - a
         lo, hi = min(lo, int(e.min())), max(hi, int(e.max()))
     assert lo >= -2044 and hi <= 2044 < 1 << 11, (lo, hi)
+
+
+def test_the_core_s_cubic_coefficients_and_q_stay_in_their_waived_bits():
+    """The bounds the waivers of the core's cubic highlight give (sim/coverage_waivers.toml):
+    its coefficient table (the committed image, as the RTL reads it) never sets p0's bit 15,
+    b1's bits 17 and 15 or b2's 17 and 16; and over every n's coefficients and every angle-table
+    word (and 2^D, cos = 0) the RTL's q = round(tau h, P) + p0 (rtl/brdf_cubic.v, tau floored at
+    -16) stays in [1.4e-5, 34.14]: never negative, below 64 (q's bits 30 and up never set), so
+    c q < 2^50; r w < 2^38."""
+    import numpy as np
+
+    from model.units.brdf import unit
+
+    cfg = unit.UNIT_CONFIGS["cubic"]
+    c = cfg.coef_bits
+    pairs = np.asarray(unit.read_rom(cfg, "coef"), dtype=np.int64).reshape(-1, 2)
+    mask = (1 << c) - 1
+    r, p0 = pairs[:, 0] >> c, pairs[:, 0] & mask
+    b1, b2 = pairs[:, 1] >> c, pairs[:, 1] & mask
+    for name, col, never in (("p0", p0, (15,)), ("b1", b1, (17, 15)), ("b2", b2, (17, 16))):
+        assert not int(np.bitwise_or.reduce(col)) & sum(1 << b for b in never), name
+    d, p = cfg.cos_data_bits, cfg.work_bits
+    w = np.concatenate([np.asarray(unit.read_rom(cfg, "angle"), dtype=np.int64), [1 << d]])
+
+    def rnd(x, s):
+        return x << -s if s <= 0 else (x + (1 << (s - 1))) >> s
+
+    lo, hi, cq_max, rw_max = np.inf, -np.inf, 0, 0
+    for rn, p0n, b1n, b2n in zip(r, p0, b1, b2, strict=True):
+        prw = rn * w
+        rw = np.minimum(rnd(prw, c - 11 + d - p), (1 << (p + 6)) - 1)
+        t = np.maximum((1 << p) - rw, -(1 << (p + 4)))
+        h = rnd(b2n * t, c) + rnd(b1n, c - p)
+        q = rnd(t * h, p) + rnd(p0n, c - 1 - p)
+        lo, hi = min(lo, int(q.min())), max(hi, int(q.max()))
+        cq_max = max(cq_max, int((((1 << d) - w) * np.maximum(q, 0)).max()))
+        rw_max = max(rw_max, int(prw.max()))
+    assert lo > 0 and hi < 1 << (p + 6), (lo / 2**p, hi / 2**p)
+    assert round(lo / 2**p, 6) == 1.4e-5 and round(hi / 2**p, 2) == 34.14
+    assert cq_max < 1 << 50 and rw_max < 1 << 38

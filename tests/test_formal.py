@@ -154,6 +154,19 @@ def test_quick_core_stream_protocol_proven_bounded_and_mutant(quick) -> None:
     assert r.detail.startswith("tlast_exact fails at step"), r.detail
 
 
+def test_quick_core_with_a_brdf_highlight_proven_and_its_mutant_fails(quick) -> None:
+    """The small configuration with the highlight through the cosine-quadratic form's pipe: the
+    AXI4-Stream rules and no beat after reset proven by k-induction; the FIFO taking a pixel at
+    the specular unit's stage 10 (two clocks before a BRDF pipe has made it) fails tlast_exact."""
+    assert formal_core.CONFIGS["small_brdf"]["HIGHLIGHT"] == "cosine_quadratic"
+    r = quick["shading_core_prove_small_brdf"]
+    assert r.ok and r.status == "proven", r.detail
+    assert set(r.job.properties) == set(formal_core.PROTOCOL)
+    r = quick["shading_core_mutant_fifo_takes_the_specular_stage_brdf"]
+    assert r.ok and r.status == "failed", r.detail
+    assert r.detail.startswith("tlast_exact fails at step"), r.detail
+
+
 def test_core_property_files_mutants_and_doc_agree() -> None:
     """The core's two property files, its mutants, helper wires, configuration and
     docs/formal.md agree with each other and with the RTL and the model of the core."""
@@ -184,12 +197,20 @@ def test_core_property_files_mutants_and_doc_agree() -> None:
     # the reduced configuration names every parameter of the core (model.render.core), the
     # ROM images being the placeholders; the wait bound reads the core's latency
     params = core.core_parameters(pipeline.PipelineConfig())
-    assert set(m.CONFIGS["small"]) | set(m.ROM_PARAMETERS) == set(params)
-    assert m.LATENCY == core.LATENCY
-    assert re.search(rf"\bSTAGES = {core.PIXEL_PIPE - 2};", rtl), "v_reg's width"
+    assert set(m.CONFIGS["small"]) | set(m.rom_parameters("small")) == set(params)
+    brdf = pipeline.BRDF_METHODS[str(m.CONFIGS["small_brdf"]["HIGHLIGHT"])]
+    params = core.core_parameters(brdf)
+    assert set(m.CONFIGS["small_brdf"]) | set(m.rom_parameters("small_brdf")) == set(params)
+    assert m.LATENCY == core.LATENCY == m.LATENCIES["small"]
+    assert m.LATENCIES["small_brdf"] == core.latency(brdf)
+    assert re.search(rf"\bSPEC_STAGES = {core.SPECULAR_STAGES};", rtl), "v_reg's width"
     full = formal.jobs("shading_core")
     assert {j.kind for j in full} == {"prove", "bmc", "cover", "mutant"}
-    assert len([j for j in full if j.kind == "mutant"]) == len(m.MUTANTS)
+    brdf_jobs = [j for j in full if j.config == "small_brdf"]
+    assert {j.kind for j in brdf_jobs} == {"prove", "bmc", "cover", "mutant"}
+    assert {j.mutant for j in brdf_jobs if j.mutant} == set(m.BRDF_MUTANTS)
+    small = {j.mutant for j in full if j.config == "small" and j.mutant}
+    assert small == set(m.MUTANTS) - {m.BRDF_MUTANTS[0]}
 
 
 def check_property_file(props, module, unit: str, labels: list[str]) -> list:

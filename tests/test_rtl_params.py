@@ -846,3 +846,41 @@ def test_the_piecewise_modules_refuse_their_bad_parameters(tmp_path: Path) -> No
         elif rule is not None and f"{module}_PARAMETER_ERROR_{rule}" not in output:
             problems.append(f"{tool} refuses {module} {params} without {rule}:\n{output[-800:]}")
     assert not problems, "\n\n".join(problems)
+
+
+# The shading core's highlight path (rtl/shading_core.v HIGHLIGHT): the core's own rules and a
+# BRDF form's widths by the BRDF unit's names (its rules instance), at the core's parameters of
+# a BRDF method (model.render.core.core_parameters); None: legal
+CORE_CASES = [
+    ("log2", {}, None),
+    ("cubic", {}, None),
+    ("log2", {"HIGHLIGHT": "phong"}, "shading_core_PARAMETER_ERROR_HIGHLIGHT_must_be_specular"),
+    ("log2", {"HIGHLIGHT": "piecewise"}, "shading_core_PARAMETER_ERROR_HIGHLIGHT_must_be_"),
+    ("cubic", {"FIFO_DEPTH": 16}, "shading_core_PARAMETER_ERROR_FIFO_DEPTH_must_exceed_the_pixels"),
+    ("quadratic", {"COEF_BITS": 9}, "brdf_unit_PARAMETER_ERROR_COEF_BITS_must_be_10_to_32_for"),
+]
+
+
+@pytest.mark.parametrize("tool", TOOLS)
+def test_the_core_refuses_what_it_cannot_build_under_every_tool(tool: str, tmp_path: Path) -> None:
+    """A HIGHLIGHT that is neither "specular" nor a BRDF form with a pipe in the core (the
+    family's piecewise form among them), a FIFO the pixels in flight of the cubic's pipe would
+    fill, and a BRDF form's widths the BRDF unit refuses: each stops elaboration naming the
+    rule; the BRDF methods' own parameter sets elaborate."""
+    from model.render import core, pipeline
+
+    assert INSTALLED[tool], f"{tool} is not installed"
+    problems = []
+    for i, (form, override, rule) in enumerate(CORE_CASES):
+        params = {**core.core_parameters(pipeline.BRDF_METHODS[form]), **override}
+        work = tmp_path / str(i)
+        work.mkdir()
+        if tool == "yosys":  # yowasp reads only its working folder: empty images there
+            params = {k: ("empty.hex" if k.endswith("ROM_FILE") else v) for k, v in params.items()}
+        status, output = _elaborate(tool, "shading_core", params, work)
+        label = f"{form} {override}"
+        if rule is None and status != 0:
+            problems.append(f"{tool} refuses legal {label}:\n{output[-1500:]}")
+        elif rule is not None and (status == 0 or rule not in output):
+            problems.append(f"{tool} does not refuse {label} naming {rule}:\n{output[-800:]}")
+    assert not problems, "\n\n".join(problems)

@@ -223,9 +223,9 @@ def test_the_units_synthesise_their_listed_files() -> None:
     below = {
         "gouraud_segment": [],
         "brdf_unit": [
-            "brdf_cosine_quadratic.v", "brdf_quadratic.v", "brdf_cubic.v", "brdf_log2.v",
-            "brdf_piecewise.v", "brdf_div.v", "brdf_delay.v", "brdf_mul.v", "brdf_round.v",
-            "shading_rom.v",
+            "brdf_front.v", "brdf_cosine_quadratic.v", "brdf_quadratic.v", "brdf_cubic.v",
+            "brdf_log2.v", "brdf_piecewise.v", "brdf_div.v", "brdf_delay.v", "brdf_mul.v",
+            "brdf_round.v", "shading_rom.v",
         ],
     }  # fmt: skip
     for unit in UNITS:
@@ -240,14 +240,15 @@ def test_the_units_synthesise_their_listed_files() -> None:
         )
 
 
-@pytest.mark.parametrize("config", ["default", "hybrid"])
+@pytest.mark.parametrize("config", ["default", "hybrid", "brdf_log2"])
 def test_the_core_gets_a_wrapper(config: str) -> None:
     """The core's ports from its source list, the derived widths evaluated (s_axis_tdata is
-    SpanFormat.width bits, m_axis_tdata PixelFormat.width), every port wired."""
+    SpanFormat.width bits, m_axis_tdata PixelFormat.width), every port wired; a BRDF
+    highlight's configuration names its form and its tables."""
     params = synth_tops.parameters("shading_core", config)
-    assert params == synth_tops.core_run.parameters(
-        METHODS[synth_tops.TOPS["shading_core"][config]]
-    )
+    method = synth_tops.TOPS["shading_core"][config]
+    assert params == synth_tops.core_run.parameters(synth_tops.core_run.method_config(method))
+    assert params["HIGHLIGHT"] == ("log2" if config == "brdf_log2" else "specular")
     text = "\n".join(d.decode() for d in hw_synth.rtl_sources("shading_core").values())
     local = {k: v for k, v in params.items() if not k.endswith("ROM_FILE")}
     found = {p.name: (p.direction, p.width) for p in ports(text, "shading_core", local)}
@@ -368,7 +369,7 @@ def test_the_brdf_page_carries_the_recorded_resources() -> None:
                 continue
             assert r.ok, r
             if part in ("up5k", "gw1nr-9"):  # slower there than the specular unit, but log2
-                faster = r is log2
+                faster = r is log2 or (part == "gw1nr-9" and r is cubic)  # and the Gowin's cubic
                 assert all((r.fmax_mhz > o.fmax_mhz) == faster for o in placed), (r, placed)
             if part == "ecp5-25f":  # faster there than the specular unit's default, but one
                 assert (r.fmax_mhz > spec.fmax_mhz) == (r is not pw), (r, spec)

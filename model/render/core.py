@@ -4,29 +4,32 @@ packer and unpacker the host and the benches share, and the model of what it out
 
 **In**: one AXI4-Stream beat per span (``SpanFormat``), every operand the span's ``UnitJobs``
 rows hold: position and intervals, the Gouraud start and end register of each channel, the
-specular registers C, dz, z0, n (with a flag: the span goes through the specular unit), and
-the diffuse jobs' registers (with a flag: the diffuse term comes from the unit at n = 1).  The
+highlight's registers C, dz, z0, n (with a flag: the span's highlight goes through the
+highlight unit: the specular unit, or the BRDF unit of ``PipelineConfig.brdf``), and the
+diffuse jobs' registers (with a flag: the diffuse term comes from the unit at n = 1).  The
 three diffuse jobs of a span share dz and z0: ``specular.setup_row`` computes them from N and
 L alone, only C carries the channel's colour; the packer checks that they agree and carries
 them once.
 
 **Out**: one beat per pixel (``PixelFormat``): x, y and RGB888, ``tlast`` on a span's last
-pixel and ``tuser`` = 1 on the pixels of a span whose n the specular unit refuses (its
+pixel and ``tuser`` = 1 on the pixels of a span whose n the highlight unit refuses (its
 highlight is then 0, as the unit's ``n_err`` says).
 
 Per pixel the core does what ``pipeline.assemble`` does with the units' outputs: dI from the
 divider's quotient (``a * round(2**N / k)``, rounded to the Gouraud ``di`` format), the
 Gouraud lane value ``i0 + bias + x dI`` truncated and saturated, the specular unit's
-``C cos^k(a |z0 + x dz|)`` for the highlight and for each channel's diffuse term, then
-``min(gouraud + diffuse + specular, 255)``.  ``core_pixels`` computes that from the packed
+``C cos^k(a |z0 + x dz|)`` (or the BRDF unit's ``unit_line``) for the highlight and the
+specular unit's for each channel's diffuse term, then ``min(gouraud + diffuse + specular,
+255)``.  ``core_pixels`` computes that from the packed
 words through the units' public per-line calls (an implementation apart from the pipeline's
 kernels: the tests compare it with the pipeline's image byte for byte).
 
-**Timing** (``CoreTiming``): with every span beat offered back to back and the output always
-ready, the core takes one span beat per clock while it has room and gives one pixel per clock;
-the first pixel leaves ``LATENCY`` clocks after the first span beat is taken, and the last
-``LATENCY + pixels - 1`` clocks after it.  ``core_cycles`` gives that count; the benches
-measure it.
+**Timing**: with every span beat offered back to back and the output always ready, the core
+takes one span beat per clock while it has room and gives one pixel per clock; the first pixel
+leaves ``latency(cfg)`` clocks after the first span beat is taken, and the last
+``latency(cfg) + pixels - 1`` clocks after it.  ``core_cycles`` gives that count; the benches
+measure it.  The latency depends on the highlight path: ``LATENCY`` (18) with the patent's
+specular unit, more with a BRDF form (``highlight_stages``).
 """
 
 from __future__ import annotations
@@ -37,6 +40,7 @@ import numpy as np
 
 from model.render.pipeline import DIFFUSE_N, PipelineConfig, UnitJobs, increment_from_quotient
 from model.units import divider, gouraud, specular
+from model.units.brdf import unit as brdf_unit
 
 CHANNELS = 3
 N_WIDTH = 10
@@ -47,13 +51,32 @@ OUT_MAX = 255
 
 SPAN_PIPE = 6
 """Clocks from the cycle a span beat is taken to the cycle its first pixel is issued: stage A
-(the input register, ROM 9, the reciprocal ROM, decoder 10), stages B..E (the divider's
-operands registered, four partial products, two sums), the span register."""
-PIXEL_PIPE = 12
+(the input register, ROM 9, the reciprocal ROM, decoder 10, or a BRDF form's word of n), stages
+B..E (the divider's operands registered, four partial products, two sums), the span
+register."""
+SPECULAR_STAGES = 10
+"""The patent's highlight path (rtl/shading_specular_pipe.v): S1..S10 from a pixel issued to
+its intensity; the diffuse path has the same stages.  A core without a highlight path keeps
+them."""
+BRDF_FRONT_BACK = 7
+"""A BRDF highlight path's stages besides its form's (rtl/shading_brdf_pipe.v): the front
+S1..S5 (rtl/brdf_front.v: |zeta| in two steps, the angle-table address, the table's read, the
+w gate), x C and the rounding register."""
+CORE_FORMS = ("cosine_quadratic", "quadratic", "cubic", "log2")
+"""The BRDF forms the core's highlight path takes (rtl/shading_brdf_pipe.v, HIGHLIGHT): a form
+of ``brdf.unit.RTL_FORMS`` not here has no pipe in the core, and a configuration with it is
+refused by name."""
+PIXEL_PIPE = SPECULAR_STAGES + 2
 """Clocks from a pixel issued (in S0, the span register's accumulators) to its beat on
-``m_axis``: the specular stages S1..S10, the sum into the output FIFO, its output register."""
+``m_axis`` with the patent's highlight path: the specular stages S1..S10, the sum into the
+output FIFO, its output register (``pixel_pipe`` for any configuration)."""
 LATENCY = SPAN_PIPE + PIXEL_PIPE
-"""Clocks from the cycle the first span beat is taken to the cycle of the first pixel beat."""
+"""Clocks from the cycle the first span beat is taken to the cycle of the first pixel beat,
+with the patent's highlight path (``latency`` for any configuration)."""
+FIFO_DEPTHS = tuple(1 << b for b in range(4, 13))
+"""The output FIFO's legal depths (FIFO_DEPTH): powers of two from 16 to 4096, and above the
+pixels in flight (``pixel_pipe``), so that the credit count never stops the issuer while the
+output is ready."""
 
 
 def _round8(bits: int) -> int:
@@ -231,6 +254,45 @@ def default_paths(cfg: PipelineConfig) -> tuple[bool, bool]:
     return cfg.specular_mode != "vertex", cfg.diffuse_mode != "gouraud"
 
 
+def check_core(cfg: PipelineConfig) -> PipelineConfig:
+    """``cfg`` if the core can be built for it, else ``ValueError`` naming what it cannot: a
+    BRDF highlight of a form without a pipe in the core (``CORE_FORMS``)."""
+    if cfg.brdf is not None and cfg.brdf.form not in CORE_FORMS:
+        raise ValueError(
+            f"brdf form = {cfg.brdf.form!r} is out of range for the shading core: its highlight "
+            f"path takes the specular unit or the forms {CORE_FORMS}"
+        )
+    return cfg
+
+
+def _highlight_path(cfg: PipelineConfig, specular_path: bool | None) -> bool:
+    return default_paths(cfg)[0] if specular_path is None else bool(specular_path)
+
+
+def highlight_stages(cfg: PipelineConfig | None = None, specular_path: bool | None = None) -> int:
+    """The pixel pipeline's stages S1..S(n) of a core for ``cfg`` (default: the default
+    configuration): ``SPECULAR_STAGES`` for the patent's highlight path (or none), and for a
+    BRDF form ``BRDF_FRONT_BACK`` + the form's (``brdf.FORM_LATENCY``: 12 for the
+    cosine-quadratic, 13 for the quadratic, 14 for the log2, 20 for the cubic).  The diffuse
+    terms wait for the highlight."""
+    cfg = check_core(cfg or PipelineConfig())
+    if cfg.brdf is None or not _highlight_path(cfg, specular_path):
+        return SPECULAR_STAGES
+    return BRDF_FRONT_BACK + brdf_unit.FORM_LATENCY[cfg.brdf.form]
+
+
+def pixel_pipe(cfg: PipelineConfig | None = None, specular_path: bool | None = None) -> int:
+    """Clocks from a pixel issued to its beat on ``m_axis``: ``highlight_stages``, the FIFO's
+    write and its output register."""
+    return highlight_stages(cfg, specular_path) + 2
+
+
+def latency(cfg: PipelineConfig | None = None, specular_path: bool | None = None) -> int:
+    """Clocks from the cycle the first span beat is taken to the cycle of the first pixel beat
+    (``SPAN_PIPE`` + ``pixel_pipe``): ``LATENCY`` = 18 with the patent's highlight path."""
+    return SPAN_PIPE + pixel_pipe(cfg, specular_path)
+
+
 def core_pixels(
     words: list[int],
     fmt: SpanFormat,
@@ -241,8 +303,9 @@ def core_pixels(
     x, y, r, g, b, ``last`` (tlast) and ``n_err`` (tuser), from the units' public calls, for a
     core built with the given paths (default: ``default_paths``).  A span whose flag asks for a
     path the core lacks gets 0 for that term and tuser = 1, as does a refused n; x counts on
-    modulo 2**x_width, as the core's column register does."""
-    cfg = fmt.cfg
+    modulo 2**x_width, as the core's column register does.  With ``cfg.brdf`` set the
+    highlight is the BRDF unit's line (``brdf.unit.unit_line``, n outside 1..1000 refused)."""
+    cfg = check_core(fmt.cfg)
     paths = default_paths(cfg)
     has_spec = paths[0] if specular_path is None else bool(specular_path)
     has_diff = paths[1] if diffuse_path is None else bool(diffuse_path)
@@ -266,6 +329,9 @@ def core_pixels(
         n_err = 0
         if f["spec"] and not has_spec:
             n_err = 1
+        elif f["spec"] and cfg.brdf is not None:
+            line, n_err = brdf_unit.unit_line(f["c"], f["dz"], f["z0"], f["n"], l_int, cfg.brdf)
+            total += np.asarray(line, dtype=np.int64)[:, None]
         elif f["spec"]:
             line, n_err = specular.unit_line(f["c"], f["dz"], f["z0"], f["n"], l_int, sp)
             total += np.asarray(line, dtype=np.int64)[:, None]
@@ -297,14 +363,17 @@ def pixel_word(pix: dict[str, int], fmt: PixelFormat) -> int:
     return pack(fmt.layout(), pix)
 
 
-def core_cycles(pixels: int) -> int:
+def core_cycles(
+    pixels: int, cfg: PipelineConfig | None = None, specular_path: bool | None = None
+) -> int:
     """Clocks from the cycle the first span beat is taken to the cycle of the last pixel beat,
-    both counted, with the span beats offered back to back and the output always ready:
-    LATENCY + pixels (the core issues one pixel per clock; a span beat waits in stage B while
-    the previous span's pixels issue, and moves into the span register with its last one)."""
+    both counted, with the span beats offered back to back and the output always ready, for a
+    core of ``cfg`` (default: the default configuration): ``latency(cfg)`` + pixels (the core
+    issues one pixel per clock; a span beat waits in stage B while the previous span's pixels
+    issue, and moves into the span register with its last one)."""
     if pixels < 1:
         raise ValueError(f"pixels = {pixels} is out of range: legal is >= 1")
-    return LATENCY + pixels
+    return latency(cfg, specular_path) + pixels
 
 
 def core_parameters(
@@ -315,8 +384,12 @@ def core_parameters(
     fifo_depth: int = 32,
 ) -> dict[str, object]:
     """The Verilog parameters of ``rtl/shading_core.v`` for ``cfg``: the units' fields in upper
-    case (the specular unit's ``LEN_WIDTH`` as ``SPEC_LEN_WIDTH``), the ROM images' paths, and
-    which paths are built (default: what ``cfg``'s modes use)."""
+    case (the specular unit's ``LEN_WIDTH`` as ``SPEC_LEN_WIDTH``), the ROM images' paths,
+    which paths are built (default: what ``cfg``'s modes use) and the highlight's unit
+    (``HIGHLIGHT``: "specular", or ``cfg.brdf``'s form with that unit's own fields, its angle
+    formats being the specular unit's).  A configuration the core cannot build is refused by
+    name (``check_core``; ``fifo_depth`` one of ``FIFO_DEPTHS`` above ``pixel_pipe``)."""
+    check_core(cfg)
     fmt = fmt or SpanFormat(cfg)
     d, g, s = cfg.divider, cfg.gouraud, cfg.specular
     spec = dict(s.hdl_parameters())
@@ -326,6 +399,18 @@ def core_parameters(
     diffuse_path = paths[1] if diffuse_path is None else diffuse_path
     if diffuse_path:
         _diffuse_check(cfg)
+    in_flight = pixel_pipe(cfg, specular_path)
+    if fifo_depth not in FIFO_DEPTHS or fifo_depth <= in_flight:
+        raise ValueError(
+            f"fifo_depth = {fifo_depth} is out of range: legal is a power of two from 16 to "
+            f"4096 above the {in_flight} pixels in flight"
+        )
+    highlight: dict[str, object] = {"HIGHLIGHT": "specular"}
+    if cfg.brdf is not None:
+        own = brdf_unit.hdl_parameters(cfg.brdf)
+        for name in ("FORM", *(f.upper() for f in brdf_unit.ANGLE_FIELDS)):
+            own.pop(name)
+        highlight = {"HIGHLIGHT": cfg.brdf.form, **own}
     return {
         "X_WIDTH": fmt.x_width,
         "Y_WIDTH": fmt.y_width,
@@ -340,6 +425,7 @@ def core_parameters(
         "I_FRAC": g.i_frac,
         "LEN_WIDTH": g.len_width,
         **spec,
+        **highlight,
     }
 
 

@@ -174,7 +174,10 @@ BRDF_METHODS: dict[str, PipelineConfig] = {
 }
 """The hybrid with the highlight through a BRDF family unit (each form with RTL, its default
 widths) in place of the patent's specular unit: methods of ``shading demo``.  The shading core
-takes the patent's unit only, so these are not among ``METHODS``."""
+takes them too (its ``HIGHLIGHT`` parameter: ``core.core_parameters``, the form's pipe
+rtl/shading_brdf_pipe.v, a latency of its own, ``core.latency``; ``python -m sim bench`` runs
+them through it).  They are kept apart from ``METHODS``, whose every entry runs the fused
+shader kernels (the patent's unit only; a BRDF method takes the reference path)."""
 
 
 # ------------------------------------------------------------------------------------------------

@@ -61,6 +61,17 @@ module tb_shading_core #(
     parameter A_ROM_FILE = {`SHADING_ROM_DIR,
                             "/specular_a_taylor_n1k1_n2k2_n3-6k4_n7-1000k16_q3.14.hex"},
     parameter COS_ROM_FILE = {`SHADING_ROM_DIR, "/specular_cos_k1-2-4-16_a12_d16.hex"},
+    parameter [8*16-1:0] HIGHLIGHT = "specular",
+    parameter COS_ADDR_BITS = 12,
+    parameter COS_DATA_BITS = 20,
+    parameter COEF_BITS = 18,
+    parameter WORK_BITS = 24,
+    parameter OUT_BITS = 16,
+    parameter LOG_ADDR_BITS = 10,
+    parameter LOG_DATA_BITS = 16,
+    parameter ANGLE_ROM_FILE = {`SHADING_ROM_DIR, "/brdf_w_a12_d20.hex"},
+    parameter COEF_ROM_FILE = {`SHADING_ROM_DIR, "/brdf_quadratic_coef_c18_q10.8.hex"},
+    parameter LOG_ROM_FILE = {`SHADING_ROM_DIR, "/brdf_log2_a10_d16.hex"},
     // the largest span file the bench holds
     parameter MAX_SPANS = 1 << 20
 );
@@ -91,7 +102,11 @@ shading_core #(
     .OUT_WIDTH(OUT_WIDTH), .NUM_TABLES(NUM_TABLES), .N_HI0(N_HI0), .N_HI1(N_HI1),
     .N_HI2(N_HI2), .N_HI3(N_HI3), .K0(K0), .K1(K1), .K2(K2), .K3(K3), .ALPHA(ALPHA),
     .MAG_INT_BITS(MAG_INT_BITS), .N_FIRST(N_FIRST), .N_LAST(N_LAST),
-    .A_ROM_FILE(A_ROM_FILE), .COS_ROM_FILE(COS_ROM_FILE)
+    .A_ROM_FILE(A_ROM_FILE), .COS_ROM_FILE(COS_ROM_FILE), .HIGHLIGHT(HIGHLIGHT),
+    .COS_ADDR_BITS(COS_ADDR_BITS), .COS_DATA_BITS(COS_DATA_BITS), .COEF_BITS(COEF_BITS),
+    .WORK_BITS(WORK_BITS), .OUT_BITS(OUT_BITS), .LOG_ADDR_BITS(LOG_ADDR_BITS),
+    .LOG_DATA_BITS(LOG_DATA_BITS), .ANGLE_ROM_FILE(ANGLE_ROM_FILE),
+    .COEF_ROM_FILE(COEF_ROM_FILE), .LOG_ROM_FILE(LOG_ROM_FILE)
 ) dut (
     .clk(clk),
     .rst_n(rst_n),

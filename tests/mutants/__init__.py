@@ -40,6 +40,12 @@ snippet is no longer in the RTL exactly once, ``build`` fails instead of testing
   (the junction crossed towards the peak) divides 0.  The cocotb bench must fail on it with the
   piecewise form, naming intensity (the mutant replaces rtl/brdf_piecewise.v): its lines cross
   the junction.
+* ``shading_brdf_pipe_cubic_b1_early``: the shading core's BRDF highlight path
+  (rtl/shading_brdf_pipe.v) hands the cubic form its b1 from the pixel one stage behind the
+  one it belongs to (the tap four clocks after w instead of five), so where a span of another
+  n follows, that span's first pixel gets the previous span's b1.  Only back-to-back spans of
+  different n with a lit highlight show it: the core's stream bench (tests/test_core.py) must
+  fail on it, naming the pixel and the span beat.
 """
 
 from __future__ import annotations
@@ -117,6 +123,12 @@ MUTANTS = {
         "    num_reg <= bloom5_reg ? c5_reg : {(D+1){1'b0}};\n",
         "    num_reg <= bloom4_reg ? c5_reg : {(D+1){1'b0}};  // MUTANT: the next pixel's flag\n",
         unit="brdf_piecewise",
+    ),
+    "shading_brdf_pipe_cubic_b1_early": Mutant(
+        "shading_brdf_pipe_cubic_b1_early",
+        "localparam CUBIC_B1_AT = 5;\n",
+        "localparam CUBIC_B1_AT = 4;  // MUTANT: b1 of the pixel a stage behind\n",
+        unit="shading_brdf_pipe",
     ),
 }
 

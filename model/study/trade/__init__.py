@@ -71,18 +71,20 @@ x C, not the output at full-scale C); the angle drift is in angle-table address 
   run on the specular unit at n = 1, are ``diffuse_cycles``): the work, or the frame time of
   one unit of each kind in series.
 * ``core_clocks``: the frame's clocks through the streaming shading core (``rtl/shading_core.v``,
-  docs/core.md): ``core.core_cycles(pixels_shaded)`` = ``core.LATENCY`` (18) + pixels, one pixel
-  per clock with the span beats back to back and the output always ready.  These are the core
-  model's clocks, which the core's RTL matches clock for clock (its stream bench's measured
-  cycles equal them on every built-in scene and method: tests/test_core.py).  The count does
-  not depend on the knobs: the core makes one pixel per clock whatever P, N, the widths or the
-  modes.  ``px_per_clock_core`` = shaded pixels / ``core_clocks``: the throughput the study
-  reports (the Pareto front's axis and the hardware's Mpx/s).  A BRDF point has neither (NaN):
-  the core takes the patent's unit only, and a core with a BRDF unit is neither built nor
-  simulated, so no clock count of it is measured; such a point is on no throughput front and
-  has no ``hw_mpx_per_s``.  Its ``frame_clocks`` (below, with the BRDF unit as the highlight
-  unit) and ``cycles`` stand, from ``pipeline.unit_counters`` (its highlight jobs at the BRDF
-  unit's own fill latency, ``brdf.cycles``).
+  docs/core.md) built for the configuration: ``core.core_cycles(pixels_shaded, cfg)`` =
+  ``core.latency(cfg)`` + pixels (18 with the patent's highlight path; with a BRDF form's pipe
+  20 for the cosine-quadratic, 21 for the quadratic, 22 for the log2, 28 for the cubic), one
+  pixel per clock with the span beats back to back and the output always ready.  These are the
+  core model's clocks, which the core's RTL matches clock for clock (its stream bench's
+  measured cycles equal them on every built-in scene and method, the BRDF methods among them:
+  tests/test_core.py).  Beyond the latency the count does not depend on the knobs: the core
+  makes one pixel per clock whatever P, N, the widths, the modes or the highlight's unit.
+  ``px_per_clock_core`` = shaded pixels / ``core_clocks``: the throughput the study reports
+  (the Pareto front's axis and the hardware's Mpx/s).  A configuration the core cannot build
+  (a BRDF form without a pipe in it, ``core.CORE_FORMS``) has neither (NaN), is on no
+  throughput front and has no ``hw_mpx_per_s``.  A BRDF point's ``frame_clocks`` (below, with
+  the BRDF unit as the highlight unit) and ``cycles`` come from ``pipeline.unit_counters`` (its
+  highlight jobs at the BRDF unit's own fill latency, ``brdf.cycles``).
 * ``frame_clocks`` (the earlier estimate, kept as a column; ``trade.frame_clocks`` is also what
   ``model.study.adaptive`` counts): the units in parallel on a stream of spans, one divider and
   one Gouraud unit per colour channel (3 each) and one specular unit (white highlight, and the
@@ -120,7 +122,7 @@ Dask cluster (``hardware.run_synthesis``; a BRDF point's highlight unit is ``brd
 ``FixedConfig``, as ``make synth`` places it); per configuration LUT, FF, BRAM, DSP (the units'
 sums), Fmax (the slowest synthesised unit's: still the units', not the shading core's own, which
 is synthesised for its named configurations only, ``sim/synth_tops.py``) and ``hw_mpx_per_s`` =
-``px_per_clock_core`` x Fmax (NaN for a BRDF point: no core).  Without synthesis the
+``px_per_clock_core`` x Fmax (NaN where the core cannot be built).  Without synthesis the
 throughput axis is ``px_per_clock_core``.
 
 **Configuration files** (``--config FILE``, ``ConfigPoint``): one more configuration each,

@@ -76,7 +76,7 @@ def aggregate(results: list[dict]) -> list[dict]:
         row = {k: first[k] for k in (*KNOBS, "config_key", "label")}
         row["family"] = family(first)
         tot = {f: sum(r[f] for r in rs) for f in SUM_FIELDS}
-        core = tot["core_clocks"]  # NaN for a BRDF unit: the core takes the patent's only
+        core = tot["core_clocks"]  # NaN for a configuration the core cannot build
         row.update(
             scenes=",".join(r["scene"] for r in rs),
             size=first["size"],

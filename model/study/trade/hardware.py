@@ -6,7 +6,7 @@ sweep's Dask cluster or in this process, under a tqdm bar), ``unit_configs`` (th
 pipeline configuration uses), ``combine`` (one configuration's figures: the sum of its units' own
 LUTs, flip-flops, block RAMs and DSPs, and the slowest unit's Fmax), ``attach`` (those figures on
 every result of the configuration, with the hardware's Mpx/s: the shading core's pixels per clock
-x that Fmax, NaN for a BRDF configuration, which the core cannot take) and the part option
+x that Fmax, NaN for a configuration the core cannot build) and the part option
 (``DEFAULT_PART``, ``PART_CHOICES``, ``check_part``).  May import ``model.hw`` and
 ``model.render``.
 """

@@ -108,11 +108,19 @@ def frame_clocks(counters: dict) -> int:
     return max(math.ceil(div_c / CHANNELS), math.ceil(gou_c / CHANNELS), spec_c)
 
 
-def core_clocks(pixels: int) -> int:
-    """A frame's clocks through the shading core (docs/core.md, "Timing"):
-    ``core.core_cycles(pixels)`` = ``core.LATENCY`` + pixels, the count the RTL's stream bench
-    measures clock for clock (tests/test_core.py); 0 for a frame without pixels."""
-    return core.core_cycles(pixels) if pixels > 0 else 0
+def core_clocks(pixels: int, cfg: pipeline.PipelineConfig | None = None) -> float:
+    """A frame's clocks through the shading core built for ``cfg`` (docs/core.md, "Timing"):
+    ``core.core_cycles(pixels, cfg)`` = ``core.latency(cfg)`` + pixels (18 + pixels with the
+    patent's highlight path, 20 to 28 + pixels with a BRDF form's), the count the RTL's stream
+    bench measures clock for clock (tests/test_core.py); 0 for a frame without pixels; NaN for
+    a configuration the core cannot build (``core.check_core``: a BRDF form without a pipe in
+    the core)."""
+    cfg = cfg or pipeline.PipelineConfig()
+    try:
+        core.check_core(cfg)
+    except ValueError:
+        return math.nan
+    return core.core_cycles(pixels, cfg) if pixels > 0 else 0
 
 
 def line_drift(cfg: pipeline.PipelineConfig) -> float:
@@ -223,8 +231,8 @@ def evaluate(
     )
     cycles = div_c + gou_c + spec_c + diff_c
     clocks = frame_clocks(k)
-    # The shading core takes the patent's unit only: a BRDF point has no core to count.
-    on_core = core_clocks(pixels) if cfg.brdf is None else math.nan
+    # The shading core with the configuration's highlight path (a BRDF form's pipe: its latency)
+    on_core = core_clocks(pixels, cfg)
     return {
         **dataclasses.asdict(point),
         "key": point.key,
@@ -249,7 +257,7 @@ def evaluate(
         "px_per_clock": pixels / max(cycles, 1),
         "px_per_clock_parallel": pixels / max(clocks, 1),
         "core_clocks": on_core,
-        "px_per_clock_core": math.nan if cfg.brdf is not None else pixels / max(on_core, 1),
+        "px_per_clock_core": pixels / max(on_core, 1) if math.isfinite(on_core) else math.nan,
         "table_bits": report.table_bits("trade", cfg),
         **hardware(cfg),
         "shade_seconds": best,
