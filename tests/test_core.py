@@ -296,6 +296,23 @@ def test_a_cubic_coefficient_a_stage_late_is_caught_with_the_span_that_shows_it(
     assert r.mismatches and "span beat 0x" in r.mismatches[0]
 
 
+def test_a_pixel_beat_after_the_last_expected_one_fails_the_bench(tmp_path):
+    """The saved mutant shading_core_issues_on (tests/mutants): after a run's last span the core
+    goes on sending pixels.  Every expected beat is right, so only the bench's watch after the
+    last expected pixel (TAIL_CYCLES, m_axis_tready high) sees the extra ones, and it fails."""
+    from tests import mutants
+
+    mutant = mutants.build("shading_core_issues_on", tmp_path)
+    rtl = [mutant if p.name == "shading_core.v" else p for p in source_list("shading_core")]
+    fmt = core.SpanFormat(DEFAULT)
+    words = random_words(fmt, 1, seed=5)
+    with pytest.raises(AssertionError, match="a pixel beat after the last expected one"):
+        core_run.run_words(words, fmt, core_run.parameters(DEFAULT), tag="core_mutant_on",
+                           rtl=rtl)  # fmt: skip
+    r = core_run.run_words(words, fmt, core_run.parameters(DEFAULT), tag="core_mutant_on")
+    assert r.mismatches == [] and r.pixels == len(core.core_pixels(words, fmt))
+
+
 def test_the_diffuse_path_keeps_multiplier_11_where_a_of_n_1_is_not_one():
     """The prototype's one cos^2 table gives n = 1 the a sqrt(1/2): the diffuse pipe keeps its
     multiplier and ROM 9's second port (DIFF_A_ONE = 0); every pixel compared."""

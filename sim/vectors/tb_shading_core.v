@@ -11,8 +11,10 @@
 // first error or mismatch (make mutants: a mutant is killed by its first wrong beat, the rest
 // of the run would only count more); +NO_OUT_FILE writes no beats (make mutants again: with
 // +EXPECT_FILE the bench's own comparison is the verdict, and a 20 000-span check's file would
-// be 34 MB a mutant).  Plain Verilog-2005, for Icarus and for Verilator's
-// --binary mode.
+// be 34 MB a mutant).  After the last expected pixel beat the bench runs TAIL_CYCLES more
+// cycles with m_axis_tready high and fails on any beat in them: a core that sends a pixel
+// too many is caught however late the extra beat comes in the run.  Plain Verilog-2005, for
+// Icarus and for Verilator's --binary mode.
 
 `resetall
 `timescale 1ns / 1ps
@@ -80,6 +82,9 @@ localparam SPAN_WIDTH = (X_WIDTH + Y_WIDTH + LEN_WIDTH + 2 + 6 * (I_INT + I_FRAC
                          + 4 * (C_INT_BITS + C_FRAC_BITS) + 4 * (Z_INT_BITS + Z_FRAC_BITS)
                          + 10 + 7) / 8 * 8;
 localparam PIX_WIDTH = (X_WIDTH + Y_WIDTH + 24 + 7) / 8 * 8;
+// Cycles watched after the last expected pixel beat: more than a span's pixels in flight and
+// in the output FIFO (the longest pipe, the piecewise highlight's, is under 50 stages)
+localparam TAIL_CYCLES = 4 * FIFO_DEPTH + 256;
 
 reg clk = 1'b0;
 reg rst_n = 1'b0;
@@ -145,6 +150,7 @@ integer first_in;
 integer last_out;
 integer errors;
 integer stalls;
+integer done_at;   // the cycle of the last expected pixel beat (-1: not yet)
 reg [31:0] lfsr;
 reg held_valid;
 reg [PIX_WIDTH+1:0] held_beat;
@@ -213,6 +219,7 @@ initial begin
     last_out = -1;
     errors = 0;
     stalls = 0;
+    done_at = -1;
     held_valid = 1'b0;
     held_beat = {(PIX_WIDTH+2){1'b0}};
     repeat (3) @(posedge clk);
@@ -237,6 +244,11 @@ always @(posedge clk) begin
             $display("tb_shading_core: cycle %0d: m_axis_t* changed while stalled", cycle);
             errors = errors + 1;
         end
+        if (m_tvalid && m_tready && done_at >= 0) begin
+            $display("tb_shading_core: cycle %0d: a pixel beat after the last expected one (%0d)",
+                     cycle, n_pixels);
+            errors = errors + 1;
+        end
         if (m_tvalid && m_tready) begin
             if (fd != 0) $fwrite(fd, "%h %h %h\n", m_tdata, m_tlast, m_tuser);
             if (expect_fd != 0) begin
@@ -252,7 +264,8 @@ always @(posedge clk) begin
                 end
             end
             received = received + 1;
-            last_out = cycle;
+            if (received <= n_pixels) last_out = cycle;
+            if (received == n_pixels) done_at = cycle;
             held_valid = 1'b0;
         end else begin
             held_valid = m_tvalid;
@@ -274,8 +287,8 @@ always @(posedge clk) begin
             end
         end
         lfsr = next_lfsr(lfsr);
-        m_tready <= (pct(lfsr) >= stall_pct);
-        if (received == n_pixels || cycle >= max_cycles
+        m_tready <= (pct(lfsr) >= stall_pct) || done_at >= 0;
+        if ((done_at >= 0 && cycle >= done_at + TAIL_CYCLES) || cycle >= max_cycles
             || (stop_on_error != 0 && errors + mismatches != 0)) begin
             if (fd != 0) $fclose(fd);
             $display("DONE spans=%0d pixels=%0d first_in=%0d last_out=%0d cycles=%0d stalls=%0d errors=%0d",

@@ -40,6 +40,11 @@ snippet is no longer in the RTL exactly once, ``build`` fails instead of testing
   (the junction crossed towards the peak) divides 0.  The cocotb bench must fail on it with the
   piecewise form, naming intensity (the mutant replaces rtl/brdf_piecewise.v): its lines cross
   the junction.
+* ``shading_core_issues_on``: the shading core's issuer stays active after a span's last pixel
+  when no span beat waits (act_reg held), so the interval counter wraps and the span's
+  pixels go on coming.  Where another span follows, its pixels come out wrong at once; after the
+  last span of a run only extra beats follow the expected ones, which the stream bench must see
+  (tests/test_core.py, its watch after the last expected pixel).
 * ``shading_brdf_pipe_cubic_b1_early``: the shading core's BRDF highlight path
   (rtl/shading_brdf_pipe.v) hands the cubic form its b1 from the pixel one stage behind the
   one it belongs to (the tap four clocks after w instead of five), so where a span of another
@@ -123,6 +128,12 @@ MUTANTS = {
         "    num_reg <= bloom5_reg ? c5_reg : {(D+1){1'b0}};\n",
         "    num_reg <= bloom4_reg ? c5_reg : {(D+1){1'b0}};  // MUTANT: the next pixel's flag\n",
         unit="brdf_piecewise",
+    ),
+    "shading_core_issues_on": Mutant(
+        "shading_core_issues_on",
+        "    end else if (issue && last_px) begin\n        act_reg <= 1'b0;\n",
+        "    end else if (issue && last_px) begin\n        act_reg <= act_reg;  // MUTANT: on\n",
+        unit="shading_core",
     ),
     "shading_brdf_pipe_cubic_b1_early": Mutant(
         "shading_brdf_pipe_cubic_b1_early",
