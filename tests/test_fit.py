@@ -540,3 +540,11 @@ def test_a_family_is_checked_by_name(capsys) -> None:
     assert "family 'phong' is out of range: legal are cos^k, cosine_quadratic" in (
         capsys.readouterr().err
     )
+
+
+def test_the_units_a_brdf_design_uses_are_named() -> None:
+    """A design whose highlight goes through a BRDF unit names that unit's field (the report's
+    and fit.json's "units"), in place of the patent's specular unit."""
+    for form, cfg in pipeline.BRDF_METHODS.items():
+        assert cost.units_used(cfg) == ("divider", "gouraud", "brdf"), form
+    assert cost.units_used(pipeline.METHODS["hybrid"]) == ("divider", "gouraud", "specular")
