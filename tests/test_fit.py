@@ -22,7 +22,7 @@ from model.cli import main
 from model.fit import analyse, cost, parallel, report, run, search, verilog
 from model.render import configfile, core, meshes, pipeline, raster, reference, scenefile, shade
 from model.study import metrics
-from model.units import specular
+from model.units import brdf, specular
 
 SIZE = 48
 
@@ -368,8 +368,10 @@ def test_coarse_mesh_is_fitted_through_method_h(tmp_path: Path) -> None:
     r = found.result
     assert r.met and r.config.diffuse_mode != "gouraud"
     gouraud_modes = [s for s in r.steps if s.startswith("mode ") and "diffuse" not in s]
-    assert len(gouraud_modes) == 3
-    for step in gouraud_modes:  # each Gouraud-diffuse mode was rendered and missed the target
+    tried = [search.mode_families(m, search.FAMILIES) for m in search.modes()]
+    assert len(gouraud_modes) == sum(len(f) for m, f in zip(search.modes(), tried, strict=True)
+                                     if "diffuse_mode" not in m) == 11  # fmt: skip
+    for step in gouraud_modes:  # each Gouraud-diffuse design was rendered and missed the target
         assert float(step.split("NMSE ")[1].split(",")[0]) > found.target.nmse
     assert 1 in range(r.config.specular.n_first, r.config.specular.n_last + 1)
     assert r.config.specular.k_ranges[0] == (1, 1, 1)  # the k = 1 table for the diffuse jobs
@@ -382,7 +384,8 @@ def test_too_coarse_mesh_is_said_plainly(tmp_path: Path) -> None:
     text = (tmp_path / "bundle" / "report.md").read_text()
     assert "CANNOT meet NMSE <= 0.00025: no shading mode meets" in text
     assert "The closest design (the target is not met)" in text
-    assert len([s for s in found.result.steps if s.startswith("mode ")]) == len(search.modes())
+    every = sum(len(search.mode_families(m, search.FAMILIES)) for m in search.modes())
+    assert len([s for s in found.result.steps if s.startswith("mode ")]) == every
 
 
 def test_bundle_core_lints_and_synthesises_under_fusesoc(sphere_fit, tmp_path: Path) -> None:
@@ -464,3 +467,84 @@ def test_candidates_are_placed_and_routed_and_the_fmax_floor_holds(
     assert not high.fmax_met and high.result.met
     text = (tmp_path / "high" / "report.md").read_text()
     assert "NO candidate reaches 1000 MHz on up5k: the cheapest is kept, and the fit fails" in text
+
+
+# ------------------------------------------------------------------------------------------------
+# the highlight's unit as a knob: the patent's cos^k unit or a BRDF family unit
+
+GALLERY = Path(__file__).resolve().parents[1] / "examples" / "gallery.toml"
+
+
+@pytest.fixture(scope="module")
+def gallery() -> tuple[search.Evaluator, analyse.SceneNeeds]:
+    """The four-material example scene (n = 3, 12, 60, 400) at 64 x 64."""
+    frame_raster = raster.rasterise(scenefile.scene_source(str(GALLERY)).scene(64, 64))
+    return search.Evaluator(frame_raster, "gallery-64"), analyse.analyse(frame_raster)
+
+
+def _step_nmse(step: str) -> float:
+    return float(step.split("NMSE ")[1].split(",")[0])
+
+
+def test_every_family_is_tried_and_each_that_meets_starts_a_descent(gallery) -> None:
+    evaluate, needs = gallery
+    target = search.Target()
+    starts = search.choose_starts(evaluate, needs, target)
+    assert all(s.met for s in starts)
+    mode = starts[0].config.specular_mode  # the first mode where a family meets the target
+    assert all(s.config.specular_mode == mode for s in starts)
+    tried = {
+        step.split("family ")[1].split(":")[0]: _step_nmse(step)
+        for step in starts[0].steps
+        if f"specular_mode = {mode}, family" in step
+    }
+    assert tuple(tried) == search.FAMILIES  # every family, in order, in that mode
+    meeting = [f for f in search.FAMILIES if tried[f] <= target.nmse]
+    assert [search.family(s.config) for s in starts] == meeting
+    assert len(meeting) >= 2 and meeting[0] == search.COS_K  # BRDF families among them
+    for s in starts:  # each start is its family's scene-sized design, with the shared formats
+        if s.config.brdf is not None:
+            assert s.config.brdf == dataclasses.replace(
+                brdf.UNIT_CONFIGS[s.config.brdf.form],
+                angle=dataclasses.replace(
+                    brdf.UNIT_CONFIGS[s.config.brdf.form].angle,
+                    **{f: getattr(s.config.specular, f) for f in brdf.ANGLE_FIELDS},
+                ),
+            )
+
+
+def test_a_brdf_descent_moves_only_the_widths_its_design_reads(gallery) -> None:
+    evaluate, needs = gallery
+    target = search.Target()
+    (start,) = search.choose_starts(evaluate, needs, target, families=("log2",))
+    found = search.descend(evaluate, start, target, "bits")
+    cfg = found.config
+    assert found.met and search.family(cfg) == "log2" and target.met(found.comparison)
+    moved = {step.split(":")[0] for step in found.steps if not step.startswith("mode ")}
+    readable = {f"brdf.{name}" for name in cfg.brdf.widths_read} | {
+        f"{k.table}.{k.name}" for k in search.KNOBS if k.name not in search.COS_K_ONLY
+    }
+    assert moved and moved <= readable, moved - readable
+    assert any(m.startswith("brdf.") for m in moved)
+    for name in brdf.ANGLE_FIELDS:  # the BRDF unit's formats follow the shared registers
+        assert getattr(cfg.brdf.angle, name) == getattr(cfg.specular, name), name
+    assert search.design_bits(cfg) < search.design_bits(start.config)
+
+
+def test_a_family_is_checked_by_name(capsys) -> None:
+    with pytest.raises(ValueError, match=r"family 'phong' is out of range: legal are cos\^k, "):
+        search.check_family("phong")
+    with pytest.raises(SystemExit) as exc:
+        main(["fit", "--scene", "sphere", "--family", "phong", "--no-synth"])
+    assert exc.value.code == 2
+    assert "family 'phong' is out of range: legal are cos^k, cosine_quadratic" in (
+        capsys.readouterr().err
+    )
+
+
+def test_the_units_a_brdf_design_uses_are_named() -> None:
+    """A design whose highlight goes through a BRDF unit names that unit's field (the report's
+    and fit.json's "units"), in place of the patent's specular unit."""
+    for form, cfg in pipeline.BRDF_METHODS.items():
+        assert cost.units_used(cfg) == ("divider", "gouraud", "brdf"), form
+    assert cost.units_used(pipeline.METHODS["hybrid"]) == ("divider", "gouraud", "specular")

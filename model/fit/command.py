@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """``shading fit`` on the command line: its options and what it prints (``model.cli`` parses
 the scene and the size, then calls ``run_command``).  May import ``model.fit``, ``model.hw``,
-``model.render`` and ``model.study``."""
+``model.render``, ``model.study`` and ``model.units``."""
 
 from __future__ import annotations
 
@@ -10,6 +10,7 @@ from pathlib import Path
 
 from model.hw.parts import PARTS
 from model.render import scenefile
+from model.units import brdf
 
 
 def add_arguments(p: argparse.ArgumentParser) -> None:
@@ -42,6 +43,16 @@ def add_arguments(p: argparse.ArgumentParser) -> None:
         choices=[k for k in PARTS if k != "xc7"],
         default=None,
         help="the part(s) to synthesise for (repeatable; default: ecp5-25f)",
+    )
+    p.add_argument(
+        "--family",
+        action="append",
+        default=None,
+        metavar="NAME",
+        help="a family of the highlight's unit the search may use (repeatable; default: every "
+        "one): cos^k (the patent's specular unit) or a BRDF form with RTL ("
+        + ", ".join(brdf.RTL_FORMS)
+        + ")",
     )
     p.add_argument(
         "--lanes",
@@ -119,6 +130,7 @@ def run_command(args: argparse.Namespace, source: scenefile.SceneSource, notes: 
         )
     try:
         target = search.Target(args.nmse, args.max_error, args.psnr)
+        families = tuple(search.check_family(f) for f in args.family or search.FAMILIES)
     except ValueError as exc:
         args.command_parser.error(str(exc))
     out = args.out or Path("out/fit") / Path(source.ref).stem
@@ -133,6 +145,7 @@ def run_command(args: argparse.Namespace, source: scenefile.SceneSource, notes: 
         target,
         tuple(args.part or [run.DEFAULT_PART]),
         lanes=args.lanes,
+        families=families,
         synthesise=not args.no_synth,
         rtl=not args.no_rtl,
         min_mhz=args.min_fmax,

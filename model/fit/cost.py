@@ -30,7 +30,12 @@ diffuse term through the specular unit), as ``make synth`` places it (``sim.synt
 ``default``): it serves every scene and method."""
 DEFAULT_NAME = "default"
 FIT_NAME = "fit"
-_FIELD = {"divider_shift": "divider", "gouraud_segment": "gouraud", "specular_unit": "specular"}
+_FIELD = {
+    "divider_shift": "divider",
+    "gouraud_segment": "gouraud",
+    "specular_unit": "specular",
+    "brdf_unit": "brdf",
+}
 
 
 def units_used(cfg: pipeline.PipelineConfig) -> tuple[str, ...]:

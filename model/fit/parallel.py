@@ -1,8 +1,9 @@
 # SPDX-License-Identifier: Apache-2.0
 """The search's descents on Dask, the trade study's engine (``trade.make_client``).
 
-Owns ``search_candidates_dask``: the shading mode is chosen here (a few images); then each
-descent policy (``search.POLICIES``) runs as one task on the cluster — a LocalCluster of
+Owns ``search_candidates_dask``: the shading mode and the families that meet the target in it
+are chosen here (a few images); then each start's descent policy (``search.POLICIES``) runs as
+one task on the cluster — a LocalCluster of
 ``workers`` processes or the scheduler at ``scheduler`` — which rasterises the scene, renders
 its own reference and descends; the figures every task found come back into the caller's
 evaluator (and so into its cache file).  The designs equal the ones ``search_candidates`` finds
@@ -43,13 +44,14 @@ def search_candidates_dask(
     *,
     workers: int | None = None,
     scheduler: str | None = None,
+    families: tuple[str, ...] = search.FAMILIES,
 ) -> tuple[list[search.SearchResult], int]:
     """``search.search_candidates`` with the descents on Dask: (candidates, images rendered on
     the workers)."""
-    start = search.choose_mode(evaluate, needs, target, lanes)
-    if not start.met:
+    starts = search.choose_starts(evaluate, needs, target, lanes, families=families)
+    if not starts[0].met:
         evaluate.save()
-        return [start], 0
+        return starts, 0
     client = make_client(workers, scheduler)
     try:
         known = client.scatter(evaluate.known(), broadcast=True)
@@ -64,6 +66,7 @@ def search_candidates_dask(
                 known,
                 pure=False,
             )
+            for start in starts
             for policy in search.POLICIES
         ]
         done = client.gather(futures)

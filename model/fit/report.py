@@ -67,9 +67,11 @@ class FitReport:
             "comparison": self.result.comparison.as_dict(),
             "counters": self.result.counters,
             "policy": self.result.policy,
+            "family": search.family(self.result.config),
             "steps": self.result.steps,
             "candidates": [
                 {
+                    "family": search.family(c.config),
                     "policy": c.policy,
                     "nmse": c.comparison.nmse,
                     "config": configfile.config_dict(c.config),
@@ -133,19 +135,31 @@ def _knob_table(cfg: pipeline.PipelineConfig) -> list[str]:
     return lines
 
 
+def family_text(cfg: pipeline.PipelineConfig) -> str:
+    """The highlight's unit of ``cfg`` in words: its family and what it is."""
+    fam = search.family(cfg)
+    if not cfg.uses_specular_unit:
+        return "none (the highlight at the vertices)"
+    if cfg.brdf is None:
+        return f"{fam} (the patent's specular unit)"
+    return f"{fam} (the BRDF family unit of that form, docs/brdf_unit.md)"
+
+
 def _choice_lines(report: FitReport) -> list[str]:
     r, cfg = report.result, report.result.config
     paths = verilog.guard_limits(cfg)
     units = (
         f"- the shading core with the datapaths of {', '.join(report.units)} (SPECULAR = "
         f"{paths['specular']}, DIFFUSE = {paths['diffuse']}); specular_mode = "
-        f"{cfg.specular_mode}, diffuse_mode = {cfg.diffuse_mode}"
+        f"{cfg.specular_mode}, diffuse_mode = {cfg.diffuse_mode}; the highlight's unit: "
+        f"{family_text(cfg)}"
     )
     if not r.met:
         return [
             "## The closest design (the target is not met)",
             units,
-            "- the shading modes tried at the scene-sized default widths, cheapest first:",
+            "- the shading modes tried at the scene-sized default widths, cheapest first (each "
+            "with every family of the highlight's unit it can take):",
             *[f"  - {step}" for step in r.steps],
         ]
     modes = [step for step in r.steps if step.startswith("mode ")]
@@ -153,8 +167,9 @@ def _choice_lines(report: FitReport) -> list[str]:
     return [
         "## What was chosen, and why",
         units,
-        "- the shading modes tried, cheapest hardware first (the first meeting the target is "
-        "kept):",
+        "- the shading modes tried, cheapest hardware first, each with every family of the "
+        "highlight's unit it can take (the first mode where a family meets the target is kept, "
+        "and there every family that meets it starts its own descents):",
         *[f"  - {step}" for step in modes],
         f"- the knobs, lowered one bit at a time while the target holds ({knobs} steps, each "
         "rendered and meeting the target; fit.json lists them), each step chosen by the policy "
@@ -171,26 +186,51 @@ def _candidate_lines(report: FitReport) -> list[str]:
     part = report.candidates[0][1].part
     need = "" if report.min_mhz is None else f" among those reaching {report.min_mhz:g} MHz"
     lines = [
-        f"- the candidates, one per policy, each placed and routed on {part}; the one taking "
-        f"the smallest share of the part (sum of LUT, FF, BRAM and DSP used / available){need} "
-        "is kept:",
+        f"- the candidates, one per family and policy, each placed and routed on {part}; the one "
+        f"taking the smallest share of the part (sum of LUT, FF, BRAM and DSP used / "
+        f"available){need} is kept:",
         "",
-        "  | policy | NMSE | LUT | FF | BRAM | DSP | Fmax MHz | share of the part | kept |",
-        "  |---|---|---|---|---|---|---|---|---|",
+        "  | family | policy | NMSE | LUT | FF | BRAM | DSP | Fmax MHz | share of the part "
+        "| kept |",
+        "  |---|---|---|---|---|---|---|---|---|---|",
     ]
     for cand, r in report.candidates:
         kept = "yes" if cand is report.result else ""
         fmax = "-" if r.fmax_mhz is None else f"{r.fmax_mhz:.1f}"
         lines.append(
-            f"  | {cand.policy} | {cand.comparison.nmse:.6f} | {r.lut} | {r.ff} | {r.bram} "
-            f"| {r.dsp} | {fmax} | {cost.part_share(r, part):.4f} | {kept} |"
+            f"  | {search.family(cand.config)} | {cand.policy} | {cand.comparison.nmse:.6f} "
+            f"| {r.lut} | {r.ff} | {r.bram} | {r.dsp} | {fmax} "
+            f"| {cost.part_share(r, part):.4f} | {kept} |"
         )
+    lines += _family_lines(report, part)
     if not report.fmax_met:
         lines.append(
             f"- NO candidate reaches {report.min_mhz:g} MHz on {part}: the cheapest is kept, and "
             "the fit fails"
         )
     return lines
+
+
+def _family_lines(report: FitReport, part: str) -> list[str]:
+    """Why the kept design's family: its share of the part against the cheapest candidate of
+    each other family (or that no other family met the target in the chosen mode)."""
+    kept = search.family(report.result.config)
+    best: dict[str, float] = {}
+    for cand, r in report.candidates:
+        fam = search.family(cand.config)
+        if report.fast_enough(r):
+            best[fam] = min(best.get(fam, float("inf")), cost.part_share(r, part))
+    others = {f: s for f, s in best.items() if f != kept}
+    if not others:
+        return [
+            f"- the family: {kept}, the only family of the highlight's unit whose design met "
+            "the target in the chosen mode (the modes above give each family's NMSE)"
+        ]
+    against = ", ".join(f"{f} {s:.4f}" for f, s in sorted(others.items(), key=lambda x: x[1]))
+    return [
+        f"- the family: {kept}, whose cheapest candidate takes {best.get(kept, 0.0):.4f} of the "
+        f"part against the cheapest of each other family meeting the target: {against}"
+    ]
 
 
 def _proof_lines(report: FitReport) -> list[str]:

@@ -107,6 +107,7 @@ def fit(
     parts: tuple[str, ...] = (DEFAULT_PART,),
     *,
     lanes: int = 2,
+    families: tuple[str, ...] = search.FAMILIES,
     synthesise: bool = True,
     compare_default: bool = True,
     rtl: bool = False,
@@ -140,7 +141,14 @@ def fit(
         from model.fit import parallel
 
         candidates, remote = parallel.search_candidates_dask(
-            the_scene, evaluate, needs, target, lanes, workers=workers, scheduler=scheduler
+            the_scene,
+            evaluate,
+            needs,
+            target,
+            lanes,
+            workers=workers,
+            scheduler=scheduler,
+            families=families,
         )
     else:
         from tqdm import tqdm
@@ -149,7 +157,7 @@ def fit(
             desc="search", unit=" designs", disable=not progress, leave=False, mininterval=0.5
         ) as bar:
             candidates = search.search_candidates(
-                evaluate, needs, target, lanes=lanes, progress=lambda: bar.update()
+                evaluate, needs, target, lanes, lambda: bar.update(), families
             )
     seconds["search"] = time.perf_counter() - t
     report = FitReport(the_scene.name, size, target, needs, candidates[0], min_mhz=min_mhz)
@@ -162,7 +170,8 @@ def fit(
         t = time.perf_counter()
         if candidates[0].met:  # the cheapest candidate on the first part, by synthesis
             for cand in candidates:
-                say(f"synthesis of the {cand.policy} candidate on {parts[0]} ...")
+                fam = search.family(cand.config)
+                say(f"synthesis of the {fam} {cand.policy} candidate on {parts[0]} ...")
                 report.candidates.append((cand, cost.design_cost(cand.config, parts[0])))
             report.result = min(
                 report.candidates,

@@ -4,8 +4,8 @@
 Owns ``Target`` (NMSE, and optionally max error and PSNR, against the exact reference),
 ``Evaluator`` (a configuration's image and its figures, cached in memory and on disk),
 ``scene_sized`` (the default units cut to what the scene needs: interval counters and divider
-depth to the longest span, only the cos^k tables of the n used), ``MODES`` and ``KNOBS`` (what the
-search moves) and ``search`` (the search itself).
+depth to the longest span, only the cos^k tables of the n used), ``modes``, ``FAMILIES`` and
+``KNOBS`` (what the search moves) and ``search`` (the search itself).
 
 How it searches (it scales with the number of knobs, not with the size of their grid):
 
@@ -14,11 +14,24 @@ How it searches (it scales with the number of knobs, not with the size of their 
    span, then the diffuse term through the unit as well (method (h)) where the pipeline has it.
    The first mode whose scene-sized design meets the target is kept; if none does, the search
    stops and says so, with the closest design.
+   In that mode, when it puts the highlight through a unit and the diffuse term is Gouraud's,
+   the highlight's unit is a knob too (``FAMILIES``): the patent's cos^k unit and each BRDF
+   family unit with RTL (``brdf.RTL_FORMS``, at its default widths, its angle formats the
+   specular configuration's).  Every family whose design meets the target there starts a
+   descent of its own; the families that do not are listed with their NMSE.
 2. Each width knob (``KNOBS``, widest-cost first) in turn is lowered to the smallest value that
    still meets the target, by bisection between its lower bound and its current value; the
    passes repeat until a pass changes nothing.  Every design the search keeps was rendered and
    met the target: the bisection assumes only that a knob's error grows as it narrows, and a
-   design that breaks that assumption is simply not kept.
+   design that breaks that assumption is simply not kept.  A BRDF family's knobs are its
+   unit's widths (``BRDF_KNOBS``) beside the shared angle and C formats, the divider's and the
+   Gouraud unit's.
+
+Each family and descent policy gives a candidate; with synthesis, ``shading fit`` places each
+and keeps the cheapest (``model.fit.run``), so the family is chosen by its placed cost.
+
+Size: about 550 lines, one idea: what the search moves (modes, families, knobs) and how (the
+evaluator, the starts, the descents) are kept together, as each step's order depends on them.
 
 May import numpy and ``model.render``, ``model.units`` and ``model.study``.
 """
@@ -37,8 +50,8 @@ import numpy as np
 
 from model.fit.analyse import SceneNeeds
 from model.render import configfile, pipeline, raster, reference, shade
-from model.study import metrics
-from model.units import specular
+from model.study import metrics, trade
+from model.units import brdf, specular
 
 CACHE_VERSION = 1
 """Bump when the model's images change: the figures cached under an older version are unused."""
@@ -174,19 +187,27 @@ def consistent(cfg: pipeline.PipelineConfig) -> pipeline.PipelineConfig:
     if div.k_width > div.recip_bits + 1:
         div = dataclasses.replace(div, recip_bits=div.k_width - 1)
     spec = dataclasses.replace(cfg.specular, len_width=bits)
-    return dataclasses.replace(cfg, divider=div, specular=spec)
+    unit = cfg.brdf
+    if unit is not None:  # the highlight registers come in the specular formats
+        shared = {name: getattr(spec, name) for name in brdf.ANGLE_FIELDS}
+        unit = dataclasses.replace(unit, angle=dataclasses.replace(unit.angle, **shared))
+    return dataclasses.replace(cfg, divider=div, specular=spec, brdf=unit)
 
 
 def scene_sized(
     needs: SceneNeeds, lanes: int = 2, mode: dict[str, object] | None = None
 ) -> pipeline.PipelineConfig:
-    """The default units cut to the scene and shading ``mode`` (``PipelineConfig`` fields):
-    lines as long as its longest span, ``lanes`` Gouraud lanes, the cos^k tables of the n it uses
-    (n = 1 too when the diffuse term goes through the unit) and ROM 9 holding only their range;
-    every width otherwise the default's."""
+    """The default units cut to the scene and shading ``mode`` (``PipelineConfig`` fields, and
+    ``"brdf"``: a family name of ``FAMILIES``): lines as long as its longest span, ``lanes``
+    Gouraud lanes, the cos^k tables of the n it uses (n = 1 too when the diffuse term goes
+    through the unit) and ROM 9 holding only their range, or the BRDF family's unit at its
+    default widths (its n range is always 1..1000); every width otherwise the default's."""
     from model.units import gouraud
 
-    mode = mode or {}
+    mode = dict(mode or {})
+    family = mode.pop("brdf", COS_K)
+    if family != COS_K:
+        mode["brdf"] = brdf.UNIT_CONFIGS[check_family(family)]
     n_values = tuple(needs.n_values)
     if mode.get("diffuse_mode", "gouraud") != "gouraud":
         n_values = tuple(sorted({1, *n_values}))
@@ -212,12 +233,41 @@ def modes() -> list[dict[str, object]]:
     return found
 
 
+COS_K = trade.PATENT_FAMILY
+"""The family name of the patent's specular unit (``PipelineConfig.brdf`` None)."""
+FAMILIES = trade.FAMILIES
+"""The highlight's unit: the patent's cos^k unit, or each BRDF family unit with RTL (the trade
+study's families)."""
+
+
+def check_family(name: str) -> str:
+    """``name`` if it is a family of ``FAMILIES``, else ValueError naming it and the legal ones."""
+    if name not in FAMILIES:
+        raise ValueError(f"family {name!r} is out of range: legal are {', '.join(FAMILIES)}")
+    return name
+
+
+def family(cfg: pipeline.PipelineConfig) -> str:
+    """The family of the highlight's unit of ``cfg`` (``FAMILIES``)."""
+    return COS_K if cfg.brdf is None else cfg.brdf.form
+
+
+def _brdf_bits(unit: brdf.FixedConfig) -> int:
+    """The BRDF unit's table bits and the registers of its data path: the angle word, the form's
+    P-bit intermediates, its output word."""
+    angle = unit.angle
+    regs = angle.acc_width + angle.c_width + unit.cos_data_bits + 2 * unit.work_bits
+    return brdf.table_bits(unit)["total"] + regs + unit.out_bits
+
+
 def design_bits(cfg: pipeline.PipelineConfig) -> int:
     """The search's step order: the bits the design stores (ROM images) and registers in its
     data paths, a proxy that falls with every knob; the costs reported are synthesised."""
     d, g, s = cfg.divider, cfg.gouraud, cfg.specular
     bits = d.rom_bits + 2 * d.q_width + g.p * g.acc_width + 2 * g.i_width
-    if cfg.uses_specular_unit:
+    if cfg.brdf is not None:
+        bits += _brdf_bits(cfg.brdf)
+    elif cfg.uses_specular_unit:
         bits += s.rom_bits + s.acc_width + s.mag_width + s.a_width + s.c_width + s.rom_data_bits
     return bits
 
@@ -230,6 +280,15 @@ class Knob:
     name: str
     lo: int
     specular_only: bool = False
+
+    def applies(self, cfg: pipeline.PipelineConfig) -> bool:
+        """True when the knob changes ``cfg``'s design: a specular-only knob needs a unit, the
+        ROM knobs of the patent's unit need that unit (not a BRDF one), a BRDF knob its unit."""
+        if self.table == "brdf":
+            return cfg.brdf is not None
+        if self.name in COS_K_ONLY:
+            return cfg.uses_specular_unit and cfg.brdf is None
+        return cfg.uses_specular_unit or not self.specular_only
 
     def get(self, cfg: pipeline.PipelineConfig) -> int:
         return getattr(getattr(cfg, self.table), self.name)
@@ -252,6 +311,20 @@ KNOBS = (
     Knob("gouraud", "i_frac", 1),
     Knob("divider", "recip_bits", 1),
 )
+COS_K_ONLY = ("rom_addr_bits", "rom_data_bits", "a_frac_bits")
+"""The patent unit's own knobs (ROM 12 and ROM 9): nothing of them reaches a BRDF unit."""
+BRDF_KNOBS = (
+    Knob("brdf", "cos_addr_bits", 2),
+    Knob("brdf", "cos_data_bits", 4),
+    Knob("brdf", "coef_bits", 4),
+    Knob("brdf", "work_bits", 4),
+    Knob("brdf", "out_bits", 1),
+    Knob("brdf", "log_addr_bits", 2),
+    Knob("brdf", "log_data_bits", 4),
+)
+"""A BRDF family unit's widths (``brdf.FixedConfig``): each down to the least its configuration
+allows (a value its form refuses, e.g. the quadratic's coefficient word under 10 bits, is not a
+step); a field the form does not read is not a knob of its designs (``FixedConfig.widths_read``)."""
 
 
 # ------------------------------------------------------------------------------------------------
@@ -290,7 +363,18 @@ synthesis, ``shading fit`` places and routes each and keeps the cheapest (``mode
 
 
 def _rom_bits(cfg: pipeline.PipelineConfig) -> int:
+    if cfg.brdf is not None:
+        return cfg.divider.rom_bits + brdf.table_bits(cfg.brdf)["total"]
     return cfg.divider.rom_bits + (cfg.specular.rom_bits if cfg.uses_specular_unit else 0)
+
+
+def knobs_of(cfg: pipeline.PipelineConfig) -> list[Knob]:
+    """The knobs that change ``cfg``'s design, in the search's order."""
+    found = [k for k in (*KNOBS, *BRDF_KNOBS) if k.applies(cfg)]
+    if cfg.brdf is not None:  # only the widths its form reads
+        read = cfg.brdf.widths_read
+        found = [k for k in found if k.table != "brdf" or k.name in read]
+    return found
 
 
 def _score(policy: str, old, new, old_comp, new_comp) -> tuple[float, ...]:
@@ -304,42 +388,89 @@ def _score(policy: str, old, new, old_comp, new_comp) -> tuple[float, ...]:
     return (worse / max(saved, 1),)
 
 
-def choose_mode(
-    evaluate: Evaluator, needs: SceneNeeds, target: Target, lanes: int = 2, tick=None
-) -> SearchResult:
-    """Step 1 of the search (module doc): the cheapest shading mode meeting ``target`` at the
-    scene-sized widths, or the closest one (``met`` False, with the reason)."""
+def _label(mode: dict[str, object]) -> str:
+    return ", ".join(f"{k} = {v}" for k, v in mode.items())
+
+
+def mode_families(mode: dict[str, object], families: tuple[str, ...]) -> tuple[str | None, ...]:
+    """The families ``mode`` is tried with: None for a mode without a unit for the highlight
+    (vertex), cos^k alone where the diffuse term goes through the unit (a BRDF unit makes the
+    highlight only), else every one of ``families``."""
+    if mode.get("specular_mode") == "vertex":
+        return (None,)
+    if mode.get("diffuse_mode", "gouraud") != "gouraud":
+        return (COS_K,) if COS_K in families else ()
+    return families
+
+
+def choose_starts(
+    evaluate: Evaluator,
+    needs: SceneNeeds,
+    target: Target,
+    lanes: int = 2,
+    tick=None,
+    families: tuple[str, ...] = FAMILIES,
+) -> list[SearchResult]:
+    """Step 1 of the search (module doc): the first shading mode in which a family's
+    scene-sized design meets ``target``, and there every family that does, in ``families``'
+    order (each a start of its own descents); or the closest design (``met`` False, with the
+    reason) when none does."""
+    families = tuple(check_family(f) for f in families) or FAMILIES
     tick = tick or (lambda: None)
     steps: list[str] = []
     best = None
     for mode in modes():
-        tried = _try(evaluate, lambda mode=mode: scene_sized(needs, lanes, mode))
-        tick()
-        if tried is None:
-            continue
-        cfg, comp = tried
-        label = ", ".join(f"{k} = {v}" for k, v in mode.items())
-        steps.append(f"mode {label}: NMSE {comp.nmse:.6f}, max error {comp.max_abs_error:.0f}")
-        if target.met(comp):
-            return SearchResult(True, cfg, comp, {}, steps)
-        if best is None or comp.nmse < best[1].nmse:
-            best = (cfg, comp)
+        met = []
+        for fam in mode_families(mode, families):
+            design = dict(mode) if fam is None else {**mode, "brdf": fam}
+            tried = _try(evaluate, lambda design=design: scene_sized(needs, lanes, design))
+            tick()
+            if tried is None:
+                continue
+            cfg, comp = tried
+            name = "" if fam is None else f", family {fam}"
+            steps.append(
+                f"mode {_label(mode)}{name}: NMSE {comp.nmse:.6f}, "
+                f"max error {comp.max_abs_error:.0f}"
+            )
+            if target.met(comp):
+                met.append((cfg, comp))
+            elif best is None or comp.nmse < best[1].nmse:
+                best = (cfg, comp)
+        if met:
+            return [SearchResult(True, cfg, comp, {}, list(steps)) for cfg, comp in met]
     assert best is not None
     cfg, comp = best
-    return SearchResult(
-        False,
-        cfg,
-        comp,
-        evaluate.figures(cfg)["counters"],
-        steps,
-        closest_reason=(
-            f"no shading mode meets {target.describe()} even at the default widths (every "
-            f"width at its widest: the error is the method's, not the widths'); the closest "
-            f"is specular_mode = {cfg.specular_mode}, diffuse_mode = {cfg.diffuse_mode} "
-            f"with NMSE {comp.nmse:.6f}, max error {comp.max_abs_error:.0f} levels "
-            f"({comp.highlight_max_abs_error:.0f} in the highlight)"
-        ),
-    )
+    fam = "" if cfg.brdf is None else f", family {family(cfg)}"
+    return [
+        SearchResult(
+            False,
+            cfg,
+            comp,
+            evaluate.figures(cfg)["counters"],
+            steps,
+            closest_reason=(
+                f"no shading mode meets {target.describe()} even at the default widths (every "
+                f"width at its widest: the error is the method's, not the widths'); the closest "
+                f"is specular_mode = {cfg.specular_mode}, diffuse_mode = {cfg.diffuse_mode}"
+                f"{fam} with NMSE {comp.nmse:.6f}, max error {comp.max_abs_error:.0f} levels "
+                f"({comp.highlight_max_abs_error:.0f} in the highlight)"
+            ),
+        )
+    ]
+
+
+def choose_mode(
+    evaluate: Evaluator,
+    needs: SceneNeeds,
+    target: Target,
+    lanes: int = 2,
+    tick=None,
+    families: tuple[str, ...] = FAMILIES,
+) -> SearchResult:
+    """The first start of ``choose_starts`` (the first family of ``families`` that meets the
+    target in the first mode where one does), or the closest design."""
+    return choose_starts(evaluate, needs, target, lanes, tick, families)[0]
 
 
 def descend(
@@ -351,7 +482,7 @@ def descend(
         raise ValueError(f"policy = {policy!r} is out of range: legal are {', '.join(POLICIES)}")
     tick = tick or (lambda: None)
     cfg, comp, steps = start.config, start.comparison, list(start.steps)
-    knobs = [k for k in KNOBS if cfg.uses_specular_unit or not k.specular_only]
+    knobs = knobs_of(cfg)
     while True:
         moves = []
         for knob in knobs:
@@ -380,9 +511,11 @@ def search(
     lanes: int = 2,
     progress=None,
     policy: str = "bits",
+    families: tuple[str, ...] = FAMILIES,
 ) -> SearchResult:
-    """The design meeting ``target`` that ``policy``'s descent reaches (module doc)."""
-    start = choose_mode(evaluate, needs, target, lanes, progress)
+    """The design meeting ``target`` that ``policy``'s descent reaches from the first start
+    (module doc)."""
+    start = choose_mode(evaluate, needs, target, lanes, progress, families)
     if not start.met:
         evaluate.save()
         return start
@@ -390,19 +523,26 @@ def search(
 
 
 def search_candidates(
-    evaluate: Evaluator, needs: SceneNeeds, target: Target, lanes: int = 2, progress=None
+    evaluate: Evaluator,
+    needs: SceneNeeds,
+    target: Target,
+    lanes: int = 2,
+    progress=None,
+    families: tuple[str, ...] = FAMILIES,
 ) -> list[SearchResult]:
-    """One design per descent policy (``POLICIES``), different designs only, in policy order;
-    the closest design alone when the target cannot be met."""
-    start = choose_mode(evaluate, needs, target, lanes, progress)
-    if not start.met:
+    """One design per start (a family meeting the target in the chosen mode) and descent
+    policy (``POLICIES``), different designs only, in start and policy order; the closest
+    design alone when the target cannot be met."""
+    starts = choose_starts(evaluate, needs, target, lanes, progress, families)
+    if not starts[0].met:
         evaluate.save()
-        return [start]
+        return starts
     found: list[SearchResult] = []
-    for policy in POLICIES:
-        result = descend(evaluate, start, target, policy, progress)
-        if all(r.config != result.config for r in found):
-            found.append(result)
+    for start in starts:
+        for policy in POLICIES:
+            result = descend(evaluate, start, target, policy, progress)
+            if all(r.config != result.config for r in found):
+                found.append(result)
     return found
 
 

@@ -63,11 +63,18 @@ Gouraud unit and the highlight's route.  ``rom_addr_bits``, ``rom_data_bits``, `
 the same figures), so no grid varies them there."""
 
 
+PATENT_FAMILY = "cos^k"
+"""The family name of the patent's specular unit (``brdf`` "none"); a BRDF unit's family is its
+form."""
+FAMILIES: tuple[str, ...] = (PATENT_FAMILY, *brdf.RTL_FORMS)
+"""Every family of the highlight's unit: the patent's, then each BRDF form with RTL."""
+
+
 def family(knobs: Mapping[str, object]) -> str:
-    """The BRDF family a point or row belongs to: "cos^k" (the patent's specular unit, ``brdf``
-    "none") or the BRDF unit's form."""
+    """The BRDF family a point or row belongs to: ``PATENT_FAMILY`` (the patent's specular unit,
+    ``brdf`` "none") or the BRDF unit's form."""
     form = knobs.get("brdf", PATENT)
-    return "cos^k" if form == PATENT else str(form)
+    return PATENT_FAMILY if form == PATENT else str(form)
 
 
 FILE_KEY = re.compile(r"(?P<kind>mesh|scene):(?P<name>[^/\\]+)@(?P<sha1>[0-9a-f]{12})")

@@ -79,6 +79,7 @@ from model.units.brdf.fixed_accuracy import (
     interval_ends,
 )
 from model.units.brdf.unit import (
+    ANGLE_FIELDS,
     CUBIC_COEF_WORDS,
     CUBIC_R_INT_BITS,
     FORM_LATENCY,
@@ -115,6 +116,7 @@ from model.units.brdf.unit_doc import (
 )
 
 __all__ = [
+    "ANGLE_FIELDS",
     "CLAIMS",
     "COEFFICIENTS",
     "CONFIGS",

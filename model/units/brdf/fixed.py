@@ -151,6 +151,21 @@ class FixedConfig:
         return COEFFICIENTS[self.form]
 
     @property
+    def widths_read(self) -> tuple[str, ...]:
+        """The width fields the form's arithmetic reads, in field order: the others are
+        checked but change nothing (a form without coefficients ignores ``coef_bits``, the log2
+        form ``work_bits``, every other form the log2 table's two)."""
+        names = ["cos_addr_bits", "cos_data_bits"]
+        if self.coefficients:
+            names.append("coef_bits")
+        if self.form != "log2":
+            names.append("work_bits")
+        names.append("out_bits")
+        if self.form == "log2":
+            names += ["log_addr_bits", "log_data_bits"]
+        return tuple(names)
+
+    @property
     def coef_formats(self) -> dict[str, fixed.QFormat]:
         """Each coefficient's unsigned Qe.f, e + f = ``coef_bits``, e the fewest integer bits
         its largest value over n = 1..1000 rounds into."""
