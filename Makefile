@@ -158,13 +158,18 @@ SYNTH_ARGS ?=
 synth: setup
 	$(PY) scripts/synth.py --out out/synth $(SYNTH_ARGS)
 
-# Fit the units to the teapot (docs/fit.md): the knob search, the fitted and the default design
-# placed and routed on ECP5-25F and UP5K, the fitted RTL against the model on every span; the
-# bundle into out/fit/teapot/, the record into docs/fit_teapot.json and docs/fit.md.
+# Fit the units to the teapot and to the four-material gallery (docs/fit.md): the knob search
+# over the highlight's unit families, the fitted and the default design placed and routed on
+# ECP5-25F and UP5K, the fitted RTL against the model on every span; the bundles into
+# out/fit/<scene>/, the records into docs/fit_teapot.json, docs/fit_gallery.json and docs/fit.md.
 fit: setup tools
 	$(PY) -m model fit --scene teapot --size 256 --part ecp5-25f --part up5k --out out/fit/teapot
 	cp out/fit/teapot/fit.json docs/fit_teapot.json
 	$(PY) scripts/fit_docs.py docs/fit_teapot.json docs/fit.md
+	$(PY) -m model fit --scene examples/gallery.toml --size 128 --part ecp5-25f --part up5k \
+		--out out/fit/gallery
+	cp out/fit/gallery/fit.json docs/fit_gallery.json
+	$(PY) scripts/fit_docs.py docs/fit_gallery.json docs/fit.md
 
 # Formal proofs (docs/formal.md) with SymbiYosys and z3 from .venv, for the three units: protocol
 # properties by k-induction, the arithmetic (divider, Gouraud), every cover reached, every

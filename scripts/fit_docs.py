@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: Apache-2.0
-"""Write a recorded fit (``make fit``: docs/fit_teapot.json) into docs/fit.md's generated block.
+"""Write a recorded fit (``make fit``: docs/fit_teapot.json, docs/fit_gallery.json) into the
+generated block of docs/fit.md that names it.
 
 python scripts/fit_docs.py docs/fit_teapot.json docs/fit.md
 """
@@ -19,11 +20,13 @@ def main(record_path: str, page_path: str) -> int:
     page = Path(page_path)
     text = page.read_text()
     pattern = re.compile(
-        re.escape(report.DOCS_BEGIN.split("{record}")[0]) + r".*?" + re.escape(report.DOCS_END),
+        re.escape(report.DOCS_BEGIN.format(record=record_path))
+        + r".*?"
+        + re.escape(report.DOCS_END),
         re.S,
     )
     if not pattern.search(text):
-        print(f"{page}: no generated block ({report.DOCS_END}) to replace", file=sys.stderr)
+        print(f"{page}: no generated block of {record_path} to replace", file=sys.stderr)
         return 1
     block = report.docs_block(record, record_path)
     page.write_text(pattern.sub(lambda _: block, text, count=1))

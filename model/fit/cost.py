@@ -68,6 +68,11 @@ def synth_parameters(cfg: pipeline.PipelineConfig, rom_dir: Path | None = None) 
     spec = synth.synth_parameters("specular_unit", cfg.specular, rom_dir)
     params["RECIP_ROM_FILE"] = div["ROM_FILE"]
     params["A_ROM_FILE"], params["COS_ROM_FILE"] = spec["A_ROM_FILE"], spec["COS_ROM_FILE"]
+    if cfg.brdf is not None:  # the BRDF highlight's tables
+        own = synth.synth_parameters("brdf_unit", cfg.brdf, rom_dir)
+        for name in verilog.BRDF_ROM_PARAMS.values():
+            if name in params:
+                params[name] = own[name]
     return params
 
 

@@ -36,6 +36,7 @@ class FitReport:
     cache_hits: int = 0
     seconds: dict[str, float] = field(default_factory=dict)
     files: list[Path] = field(default_factory=list)
+    source: list[str] = field(default_factory=list)  # the scene's command-line arguments
 
     def fast_enough(self, r: SynthResult) -> bool:
         """Whether a synthesised design fits and reaches ``min_mhz`` (when one is set)."""
@@ -57,6 +58,7 @@ class FitReport:
     def record(self) -> dict:
         return {
             "scene": self.scene,
+            "source": self.source,
             "size": self.size,
             "target": self.target.describe(),
             "min_mhz": self.min_mhz,
@@ -319,6 +321,7 @@ def docs_block(record: dict, record_name: str) -> str:
                 f"| {label} | {part} | {row['LUT']} | {row['FF']} | {row['BRAM']} | {row['DSP']} "
                 f"| {'yes' if row['fits'] else 'no'} | {fmax} |"
             )
+    lines += _record_candidates(record)
     proof = record.get("rtl_proof") or {}
     if proof:
         lines += [
@@ -328,6 +331,34 @@ def docs_block(record: dict, record_name: str) -> str:
         ]
     lines += ["", DOCS_END]
     return "\n".join(lines)
+
+
+def _record_candidates(record: dict) -> list[str]:
+    """The recorded candidates, one per family and policy, as placed on the first part, and the
+    family kept (the highlight's unit, ``search.FAMILIES``)."""
+    cands = record.get("candidates") or []
+    if not cands:
+        return []
+    part = next(iter(record["cost"]))
+    lines = [
+        "",
+        f"The candidates on {part} (the one taking the smallest share of the part is kept):",
+        "",
+        "| family | policy | NMSE | LUT | FF | BRAM | DSP | Fmax MHz | share | kept |",
+        "|---|---|---|---|---|---|---|---|---|---|",
+    ]
+    for c in cands:
+        row, fmax = c["cost"], c["cost"]["fmax_mhz"]
+        kept = "yes" if c["config"] == record["config"] else ""
+        lines.append(
+            f"| {c['family']} | {c['policy']} | {c['nmse']:.6f} | {row['LUT']} | {row['FF']} "
+            f"| {row['BRAM']} | {row['DSP']} | {'-' if fmax is None else f'{fmax:.1f}'} "
+            f"| {c['share']:.4f} | {kept} |"
+        )
+    families = sorted({c["family"] for c in cands}, key=search.FAMILIES.index)
+    lines += ["", f"The highlight's unit kept: {record['family']} (families with a candidate: "
+              f"{', '.join(families)})."]  # fmt: skip
+    return lines
 
 
 def readme_sentence(record: dict) -> str:

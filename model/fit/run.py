@@ -161,6 +161,8 @@ def fit(
             )
     seconds["search"] = time.perf_counter() - t
     report = FitReport(the_scene.name, size, target, needs, candidates[0], min_mhz=min_mhz)
+    if isinstance(source, scenefile.SceneSource):
+        report.source = scene_arguments(source)
     report.renders, report.cache_hits = evaluate.renders + remote, evaluate.hits
     say(
         f"search: {'met' if candidates[0].met else 'NOT met'} {target.describe()}; "

@@ -26,11 +26,13 @@ from pathlib import Path
 
 from model.hw import sources
 from model.render import core, pipeline
-from model.units import divider, specular
+from model.units import brdf, divider, specular
 
 TOP = "shading_fit_top"
 CORE = "shading_core"
-ROM_PARAMS = ("RECIP_ROM_FILE", "A_ROM_FILE", "COS_ROM_FILE")
+BRDF_ROM_PARAMS = {"angle": "ANGLE_ROM_FILE", "coef": "COEF_ROM_FILE", "log2": "LOG_ROM_FILE"}
+"""The core's parameter naming each table of a BRDF highlight's unit (``brdf.rom_kinds``)."""
+ROM_PARAMS = ("RECIP_ROM_FILE", "A_ROM_FILE", "COS_ROM_FILE", *BRDF_ROM_PARAMS.values())
 RTL_DIR = sources.RTL_DIR  # rtl/, installed as the package data model.rtl
 
 
@@ -46,25 +48,31 @@ def core_parameters(cfg: pipeline.PipelineConfig) -> dict[str, object]:
 
 
 def rom_images(cfg: pipeline.PipelineConfig) -> dict[str, str]:
-    """{file name: image text} of every ROM the fitted core names."""
+    """{file name: image text} of every ROM the fitted core names (a BRDF highlight's tables
+    among them)."""
     params = core_parameters(cfg)
-    return {
+    images = {
         str(params["RECIP_ROM_FILE"]): divider.rom_text(cfg.divider),
         str(params["A_ROM_FILE"]): specular.rom_text(cfg.specular, "a"),
         str(params["COS_ROM_FILE"]): specular.rom_text(cfg.specular, "cos"),
     }
+    if cfg.brdf is not None:
+        for kind in brdf.rom_kinds(cfg.brdf):
+            images[str(params[BRDF_ROM_PARAMS[kind]])] = brdf.rom_text(cfg.brdf, kind)
+    return images
 
 
 def guard_limits(cfg: pipeline.PipelineConfig) -> dict[str, int]:
     """The guard's rule: the largest ``l`` the fitted counters take (the Gouraud line of
     ``len_max`` pixels, the divider's ``k_max``, the specular unit's ``len_max`` intervals), the
-    kept range of n, and which paths are built."""
+    kept range of n (a BRDF highlight's unit keeps 1..1000), and which paths are built."""
     params = core.core_parameters(cfg)
     g, d, s = cfg.gouraud, cfg.divider, cfg.specular
+    n_first, n_last = (s.n_first, s.n_last) if cfg.brdf is None else (1, specular.N_MAX)
     return {
         "l_max": min(g.len_max - 1, d.k_max, s.len_max),
-        "n_first": s.n_first,
-        "n_last": s.n_last,
+        "n_first": n_first,
+        "n_last": n_last,
         "specular": int(params["SPECULAR"]),
         "diffuse": int(params["DIFFUSE"]),
     }
