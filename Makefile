@@ -140,7 +140,7 @@ bench: setup tools
 
 # The speed/accuracy trade: sweep every knob over the built-in scenes (Dask; cached, resumable).
 trade: setup
-	$(PY) -m model trade
+	$(PY) -m model trade --part ecp5-25f up5k
 
 # Every picture README.md and docs/ show, made again: the demo's sheet (copied to
 # docs/demo_sheet.png), the trade figure, and docs/pictures.json, what each was made from

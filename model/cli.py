@@ -376,9 +376,10 @@ def build_parser() -> argparse.ArgumentParser:
         "--figure", type=Path, default=None, metavar="DIR", help="also write trade_pareto.png here"
     )
     p.add_argument(
-        "--part", default="ecp5-25f",
-        help="synthesise the sweep's units on this part (up5k, hx8k, ecp5-25f, gw1nr-9, xc7; "
-        "default ecp5-25f) for the LUT, FF, BRAM, DSP, Fmax, Mpx/s columns; none: skip",
+        "--part", nargs="+", default=["ecp5-25f"], metavar="PART",
+        help="synthesise the sweep's units on these parts (up5k, hx8k, ecp5-25f, gw1nr-9, xc7; "
+        "default ecp5-25f) for the LUT, FF, BRAM, DSP, Fmax, Mpx/s columns and one set of "
+        "fronts per part (the first in --out, each other in --out/<part>/); none: skip",
     )  # fmt: skip
     p.add_argument(
         "--config", type=Path, action="append", default=[], metavar="FILE", dest="configs",

@@ -605,17 +605,26 @@ def _csv_rows(path):
 
 
 def test_synthesised_cost_columns(tmp_path, monkeypatch, capsys):
-    """--part: every unit the configuration uses synthesised once (a real run on the iCE40
-    HX8K, a few seconds); LUT, FF, BRAM, DSP the units' sums, Fmax the slowest unit's, Mpx/s =
-    the shading core's px/clk x Fmax; --part none synthesises nothing."""
+    """--part: every unit the configuration uses synthesised once per part (real runs on the
+    iCE40 HX8K and UP5K, a few seconds each); LUT, FF, BRAM, DSP the units' sums, Fmax the
+    slowest unit's, Mpx/s = the shading core's px/clk x Fmax; the first part's outputs in --out,
+    the second's in --out/<part>/ with its own fronts; --part none synthesises nothing."""
     from model.hw import synthesise
     from model.study.trade import hardware
 
     monkeypatch.setenv("SYNTH_CACHE", str(tmp_path / "synth"))
     monkeypatch.setattr(trade, "grid_points", _vertex_only)
     run = {"size": 16, "workers": 0, "repeats": 1}
-    assert trade.main(["sphere", "quad"], out_dir=tmp_path / "hw", part="hx8k", **run) == 0
-    assert "2 unit configurations synthesised" in capsys.readouterr().out
+    parts = ["hx8k", "up5k"]
+    assert trade.main(["sphere", "quad"], out_dir=tmp_path / "hw", part=parts, **run) == 0
+    out = capsys.readouterr().out
+    assert out.count("2 unit configurations synthesised") == 2
+    assert f"The fronts across families on up5k ({tmp_path / 'hw' / 'up5k' / 'results.md'})" in out
+    (second,) = {r["part"] for r in _csv_rows(tmp_path / "hw" / "up5k" / "results.csv")}
+    assert second == "up5k"
+    up5k_md = (tmp_path / "hw" / "up5k" / "results.md").read_text()
+    assert "on up5k" in up5k_md and "## The fronts across families" in up5k_md
+    assert (tmp_path / "hw" / "up5k" / "pareto_lut.png").is_file()
     cfg = _vertex_only("small", ["sphere"], 16)[0].to_pipeline_config()
     units = [synthesise(u, c, "hx8k") for u, c in trade.unit_configs(cfg)]  # cache hits now
     assert [r.unit for r in units] == ["divider_shift", "gouraud_segment"]
@@ -727,6 +736,8 @@ def test_bad_config_or_part_is_one_line_before_any_work(tmp_path, monkeypatch, c
         (["--config", str(bad)], f"argument --config: {bad}: divider.recip_bits = 'many'"),
         (["--config", str(tmp_path / "missing.toml")], "argument --config: path = "),
         (["--part", "ecp9"], "argument --part: part = 'ecp9' is not a part: legal values"),
+        (["--part", "up5k", "ecp9"], "argument --part: part = 'ecp9' is not a part: legal"),
+        (["--part", "none", "up5k"], "argument --part: none up5k is not allowed: none skips"),
     ]
     for argv, why in cases:
         status = cli.main(["trade", "--scenes", "sphere", "--out", str(tmp_path / "o"), *argv])

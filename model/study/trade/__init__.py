@@ -174,6 +174,7 @@ from model.study.trade.hardware import (
 from model.study.trade.outputs import (
     CSV_FIELDS,
     format_markdown,
+    front_lines,
     knob_summary,
     place_labels,
     plot_figure,
@@ -279,6 +280,7 @@ __all__ = [
     "format_markdown",
     "frame_clocks",
     "front_families",
+    "front_lines",
     "front_objectives",
     "grid_configs",
     "grid_points",
@@ -356,11 +358,21 @@ def check_configs(paths: Sequence[Path]) -> list[tuple[str, pipeline.PipelineCon
     return out
 
 
-def _check_part(part: str | None) -> str | None:
+def _check_parts(part: str | Sequence[str] | None) -> list[str]:
+    """The parts to synthesise on, in order, each checked (``check_part``): none for None or
+    "none" (alone)."""
+    parts = [part] if part is None or isinstance(part, str) else list(part)
     try:
-        return check_part(part)
+        checked = [check_part(p) for p in parts]
     except ValueError as exc:
         raise SetupError(f"argument --part: {exc}", 2) from None
+    if None in checked and len(parts) > 1:
+        raise SetupError(
+            f"argument --part: {' '.join(map(str, parts))} is not allowed: none skips synthesis "
+            "and stands alone",
+            2,
+        )
+    return list(dict.fromkeys(p for p in checked if p is not None))
 
 
 # ================================================================================ the command
@@ -377,7 +389,7 @@ def main(
     *,
     meshes: list[Path] | None = None,
     up: str = "auto",
-    part: str | None = DEFAULT_PART,
+    part: str | Sequence[str] | None = DEFAULT_PART,
     configs: Sequence[Path] = (),
 ) -> int:
     """``python -m model trade``: sweep, cache, write the outputs, print the summary.
@@ -390,14 +402,16 @@ def main(
     free (a second sweep on the same ``--out`` is refused, it does not wait) and ``scheduler``
     must answer within ``connect_timeout`` seconds.
 
-    ``part`` (``--part``; None or "none": no synthesis): the part every unit configuration the
-    sweep uses is synthesised on (``hardware.run_synthesis``, on the sweep's Dask cluster),
-    giving the LUT, FF, BRAM, DSP, Fmax and hardware Mpx/s columns.  ``configs`` (``--config``):
+    ``part`` (``--part``: a part or several; None or "none": no synthesis): the parts every unit
+    configuration the sweep uses is synthesised on (``hardware.run_synthesis``, on the sweep's
+    Dask cluster), giving the LUT, FF, BRAM, DSP, Fmax and hardware Mpx/s columns and one set
+    of outputs and fronts per part: the first part's in ``out_dir`` (and ``figure_dir``), each
+    other's in ``out_dir / part``.  ``configs`` (``--config``):
     pipeline configuration files, each one more configuration over the scenes
     (``ConfigPoint``); a scene such a configuration refuses (``ValueError``: a span too long,
     an n it does not keep) is reported, not a failure."""
     workers = check_workers(workers, allow_zero=True)
-    part = _check_part(part)
+    parts = _check_parts(part)
     files_cfg = check_configs(configs)
     builtin = [
         s.ref if isinstance(s, _scenefile.SceneSource) else s
@@ -431,7 +445,7 @@ def main(
                 figure_dir,
                 repeats,
                 evaluate_fn,
-                part,
+                parts,
             )
         finally:
             if client is not None:
@@ -439,18 +453,18 @@ def main(
 
 
 def _main(
-    points, scenes, size, grid, out_dir, workers, client, figure_dir, repeats, evaluate_fn, part
+    points, scenes, size, grid, out_dir, workers, client, figure_dir, repeats, evaluate_fn, parts
 ) -> int:
     began = time.perf_counter()
     own = None
     if client is None and workers != 0:
         todo = any(load_cached(out_dir / "cache", p) is None for p in points)
-        if todo or part is not None:  # one cluster for the points and the synthesis runs
+        if todo or parts:  # one cluster for the points and the synthesis runs
             client = own = make_client(workers)
     try:
         return _sweep_and_report(
             points, scenes, size, grid, out_dir, workers, client, figure_dir, repeats,
-            evaluate_fn, part, began,
+            evaluate_fn, parts, began,
         )  # fmt: skip
     finally:
         if own is not None:
@@ -461,7 +475,7 @@ def _main(
 
 
 def _sweep_and_report(
-    points, scenes, size, grid, out_dir, workers, client, figure_dir, repeats, evaluate_fn, part,
+    points, scenes, size, grid, out_dir, workers, client, figure_dir, repeats, evaluate_fn, parts,
     began,
 ) -> int:  # fmt: skip
     n_cfg = len({p.config_key for p in points})
@@ -486,15 +500,30 @@ def _sweep_and_report(
     }
     failed = {k: e for k, e in outcome.failed.items() if k not in refused}
     results = outcome.results
-    synth = None
-    if part is not None and results:
+    synth_failed: dict[str, str] = {}
+    per_part: list[tuple[str | None, list[dict]]] = [(None, results)]
+    if parts and results:
         cfgs = {p.config_key: p.to_pipeline_config() for p in points}
         wanted = {k: cfgs[k] for k in dict.fromkeys(r["config_key"] for r in results)}
-        print(f"trade: synthesising the units of {len(wanted)} configurations on {part}")
-        synth = run_synthesis(wanted, part, client=client)
-        results = attach(results, synth.figures, part)
-        print(f"trade: {synth.jobs} unit configurations synthesised in {synth.seconds:.1f} s")
-    rows, written = write_outputs(results, out_dir, figure_dir, refused=list(refused.values()))
+        per_part = []
+        for part in parts:
+            print(f"trade: synthesising the units of {len(wanted)} configurations on {part}")
+            synth = run_synthesis(wanted, part, client=client)
+            per_part.append((part, attach(results, synth.figures, part)))
+            synth_failed.update({f"{unit} on {part}": e for unit, e in synth.failed.items()})
+            print(f"trade: {synth.jobs} unit configurations synthesised in {synth.seconds:.1f} s")
+    written = []
+    for i, (part, part_results) in enumerate(per_part):
+        folder, figure = (out_dir, figure_dir) if i == 0 else (out_dir / str(part), None)
+        part_rows, part_written = write_outputs(
+            part_results, folder, figure, refused=list(refused.values())
+        )
+        written += part_written
+        if i == 0:
+            rows = part_rows
+        else:
+            print(f"\n== The fronts across families on {part} ({folder / 'results.md'}) ==")
+            print("\n".join(front_lines(part_rows)))
     print("\n== What each knob buys ==")
     print("\n".join(knob_summary(sw, rows) for sw in SMALL_SWEEPS))
     print("\n== Where the default lies ==")
@@ -513,6 +542,6 @@ def _sweep_and_report(
         print(f"REFUSED {why}")
     for key, err in failed.items():
         print(f"FAILED {key}: {err}")
-    for unit, err in (synth.failed if synth else {}).items():
+    for unit, err in synth_failed.items():
         print(f"SYNTHESIS FAILED {unit}: {err}")
-    return 1 if failed or (synth and synth.failed) else 0
+    return 1 if failed or synth_failed else 0

@@ -17,6 +17,7 @@ Size: about 540 lines: the three outputs read the same aggregated rows and share
 from __future__ import annotations
 
 import csv
+import math
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -39,8 +40,8 @@ from model.study.trade.labels import (
     polyline_boxes,
 )
 from model.study.trade.points import (
-    BRDF_CHOICES,
     DEFAULT_POINT,
+    FAMILIES,
     KNOBS,
     PATENT,
     SMALL_SWEEPS,
@@ -223,8 +224,14 @@ def front_lines(rows: list[dict]) -> list[str]:
         listed = "; ".join(f"{label} ({fam})" for label, fam in members)
         absent = [f for f in run if f not in {fam for _, fam in members}]
         why = ""
-        if name.endswith("throughput") and any(f != FAMILIES[0] for f in absent):
-            why = " (a BRDF unit has no shading core: no throughput)"
+        no_core = [
+            f
+            for f in absent
+            if name.endswith("throughput")
+            and all(math.isnan(r["hw_mpx_per_s"]) for r in rows if r["family"] == f)
+        ]
+        if no_core:
+            why = f" ({', '.join(no_core)}: no shading core built with it, no throughput)"
         off = f"; no point of {', '.join(absent)}{why}" if absent else ""
         lines.append(f"* {name}: {listed}{off}")
     return [*lines, ""]
@@ -363,8 +370,6 @@ X_AXES: dict[str, tuple[str, str, bool]] = {
 """The x axes of ``plot_pareto``: (front field, axis label, log scale)."""
 
 
-FAMILIES: tuple[str, ...] = tuple(family({"brdf": b}) for b in BRDF_CHOICES)
-"""Every family, the patent's cos^k first (``points.family`` of each ``brdf`` value)."""
 FAMILY_MARKERS = ("o", "s", "^", "v", "P", "X", "h")
 
 
