@@ -371,14 +371,15 @@ def _soak_rates(cycles: int, prep: dict[str, dict[str, float]], rows: list) -> N
     head = ["unit", "stimulus", "predict", "write", "all three"]
     sims = sorted({sim for _, sim, *_ in rows})
     head += [f"{sim} {kind}" for sim in sims for kind in ("wall", "cpu")]
-    print(f"{head[0]:<16} " + " ".join(f"{h:>14}" for h in head[1:]))
+    w = max(16, *(len(unit) for unit in prep))
+    print(f"{head[0]:<{w}} " + " ".join(f"{h:>14}" for h in head[1:]))
     for unit, steps in prep.items():
         cells = [SOAK_CYCLES / max(steps[k], 1e-9) for k in ("stimulus", "predict", "write")]
         cells.append(SOAK_CYCLES / max(sum(steps.values()), 1e-9))
         for sim in sims:
             run = next(r for u, s, _, _, r in rows if u == unit and s == sim)
             cells += [cycles / max(run.run_s, 1e-9), cycles / max(run.run_cpu_s, 1e-9)]
-        print(f"{unit:<16} " + " ".join(f"{c:>14,.0f}" for c in cells))
+        print(f"{unit:<{w}} " + " ".join(f"{c:>14,.0f}" for c in cells))
     rates = {unit: SOAK_CYCLES / max(sum(steps.values()), 1e-9) for unit, steps in prep.items()}
     verdict = ", ".join(
         f"{unit} {rate:,.0f} ({'met' if rate >= SOAK_TARGET else 'NOT met'})"
@@ -391,11 +392,13 @@ def vector_bench(cycles: int, sims: tuple[str, ...] = VECTOR_SIMS) -> int:
     """Vector mode: each unit's default configuration, a ``cycles``-cycle stimulus of the
     committed sets' generator (seed ``vector_sets.SEED``) replayed by its plain Verilog bench
     under each simulator, build and run timed apart; the table, and 1 if any replay failed."""
-    from model.units import divider, gouraud, specular
+    from model.units import brdf, divider, gouraud, specular
     from sim import soak, vector_sets
 
     configs = {"divider_shift": divider.DEFAULT, "gouraud_segment": gouraud.DEFAULT}
     configs["specular_unit"] = specular.DEFAULT
+    # the BRDF unit: each form at its default widths (its committed sets' configurations)
+    configs.update({f"brdf_{form}": cfg for form, cfg in brdf.UNIT_CONFIGS.items()})
     found = [s for s in sims if shutil.which("iverilog" if s == "icarus" else s)]
     for s in sorted(set(sims) - set(found)):
         print(f"vector mode: {s} not found on PATH, left out (`make tools` installs it)")
@@ -434,14 +437,15 @@ def vector_bench(cycles: int, sims: tuple[str, ...] = VECTOR_SIMS) -> int:
                 rows.append((unit, sim, cycles, stats.results_compared, run))
     head = ("unit", "simulator", "cycles", "results", "build s", "run s", "cpu s")
     head += ("results/s", "per cpu s", "read s")
-    print(f"{head[0]:<16} {head[1]:<10} " + " ".join(f"{h:>10}" for h in head[2:]))
+    w = max(16, *(len(unit) for unit, *_ in rows))
+    print(f"{head[0]:<{w}} {head[1]:<10} " + " ".join(f"{h:>10}" for h in head[2:]))
     rates = {}
     for unit, sim, n, results, run in rows:
         rate = results / run.run_s if run.run_s > 0 else 0.0
         cpu_rate = results / run.run_cpu_s if run.run_cpu_s > 0 else 0.0
         rates[unit, sim] = (rate, cpu_rate)
         print(
-            f"{unit:<16} {sim:<10} {n:>10} {results:>10} {run.build_s:>10.2f} "
+            f"{unit:<{w}} {sim:<10} {n:>10} {results:>10} {run.build_s:>10.2f} "
             f"{run.run_s:>10.3f} {run.run_cpu_s:>10.3f} {rate:>10.0f} {cpu_rate:>10.0f} "
             f"{run.load_s:>10.3f}" + ("" if run.passed else "  FAILED")
         )

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import pytest
 
-from model.units import divider, gouraud
+from model.units import brdf, divider, gouraud
 from sim import soak, units, vector_sets
 from sim.__main__ import vector_bench
 
@@ -171,8 +171,10 @@ def test_vector_mode_table_and_failure(monkeypatch, capsys) -> None:
     bit in one unit's stimulus makes it print FAIL and exit 1."""
     assert vector_bench(200, sims=("icarus",)) == 0
     out = capsys.readouterr().out
-    for unit in ("divider_shift", "gouraud_segment", "specular_unit"):
+    forms = [f"brdf_{form}" for form in brdf.UNIT_CONFIGS]
+    for unit in ("divider_shift", "gouraud_segment", "specular_unit", *forms):
         assert re.search(rf"^{unit} +icarus +200 +\d+ ", out, re.M), out
+        assert re.search(rf"^{unit} +[\d,]+ +[\d,]+ +[\d,]+ +[\d,]+ ", out, re.M), out
     write = vector_sets.write_stimulus
 
     def flipped(cfg, cycles, seed, folder, seconds=None):
