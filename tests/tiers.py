@@ -128,8 +128,8 @@ SLOW: dict[str, str] = {
     "tests/test_trade.py::test_sweep_on_dask_caches_and_resumes": (
         "a sweep on Dask; quick: the same sweep in one process, Dask's refusals"
     ),
-    "tests/test_fit_record.py::test_search_finds_the_recorded_design": (
-        "the teapot's whole search (9 s); quick: the record's other checks"
+    "tests/test_fit_record.py::test_search_finds_the_recorded_candidates": (
+        "each record's whole search (9 s and more); quick: the records' other checks"
     ),
     # -- formal: every saved mutant and the RESET_ALL = 1 proofs (make formal runs them too)
     "tests/test_formal.py::test_every_formal_mutant_fails_its_property": (
