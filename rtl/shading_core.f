@@ -11,6 +11,9 @@ brdf_cosine_quadratic.v
 brdf_quadratic.v
 brdf_cubic.v
 brdf_log2.v
+brdf_piecewise.v
+brdf_div.v
+brdf_delay.v
 brdf_mul.v
 brdf_round.v
 shading_rom.v

@@ -121,15 +121,15 @@ module shading_core #(
     parameter A_ROM_FILE = {`SHADING_ROM_DIR,
                             "/specular_a_taylor_n1k1_n2k2_n3-6k4_n7-1000k16_q3.14.hex"},
     parameter COS_ROM_FILE = {`SHADING_ROM_DIR, "/specular_cos_k1-2-4-16_a12_d16.hex"},
-    // The highlight path's unit: "specular" (the patent's) or a BRDF form with a pipe here,
-    // "cosine_quadratic", "quadratic", "cubic" or "log2" (its angle formats: C_INT_BITS,
+    // The highlight path's unit: "specular" (the patent's) or a BRDF form, "cosine_quadratic",
+    // "quadratic", "cubic", "log2" or "piecewise" (its angle formats: C_INT_BITS,
     // C_FRAC_BITS, Z_INT_BITS, Z_FRAC_BITS, SPEC_LEN_WIDTH, OUT_WIDTH)
     parameter [8*16-1:0] HIGHLIGHT = "specular",
     // BRDF: angle-table address bits
     parameter COS_ADDR_BITS = 12,
     // BRDF: angle-table word bits
     parameter COS_DATA_BITS = 20,
-    // BRDF: coefficient word bits (quadratic and cubic forms)
+    // BRDF: coefficient word bits (quadratic, cubic and piecewise forms)
     parameter COEF_BITS = 18,
     // BRDF: fraction bits of the form's intermediate values
     parameter WORK_BITS = 24,
@@ -184,16 +184,22 @@ localparam [8*16-1:0] FORM_COSINE_QUADRATIC = "cosine_quadratic";
 localparam [8*16-1:0] FORM_QUADRATIC = "quadratic";
 localparam [8*16-1:0] FORM_CUBIC = "cubic";
 localparam [8*16-1:0] FORM_LOG2 = "log2";
+localparam [8*16-1:0] FORM_PIECEWISE = "piecewise";
 localparam IS_SPEC = (HIGHLIGHT == UNIT_SPECULAR);
 localparam IS_BRDF = (HIGHLIGHT == FORM_COSINE_QUADRATIC) || (HIGHLIGHT == FORM_QUADRATIC)
-                     || (HIGHLIGHT == FORM_CUBIC) || (HIGHLIGHT == FORM_LOG2);
+                     || (HIGHLIGHT == FORM_CUBIC) || (HIGHLIGHT == FORM_LOG2)
+                     || (HIGHLIGHT == FORM_PIECEWISE);
 // The BRDF form's word of n (rtl/shading_brdf_word.v) and its pipeline stages
-// (model.units.brdf.FORM_LATENCY)
+// (model.units.brdf.form_latency: the piecewise form's max(14, OUT_BITS + 8))
 localparam BRDF_K_WIDTH = (HIGHLIGHT == FORM_QUADRATIC) ? COEF_BITS
                         : (HIGHLIGHT == FORM_CUBIC) ? 4 * COEF_BITS
-                        : (HIGHLIGHT == FORM_LOG2) ? 10 : 13;
+                        : (HIGHLIGHT == FORM_LOG2) ? 10
+                        : (HIGHLIGHT == FORM_PIECEWISE) ? 6 * COEF_BITS : 13;
 localparam BRDF_FORM_STAGES = (HIGHLIGHT == FORM_QUADRATIC) ? 6 : (HIGHLIGHT == FORM_CUBIC) ? 13
-                            : (HIGHLIGHT == FORM_LOG2) ? 7 : 5;
+                            : (HIGHLIGHT == FORM_LOG2) ? 7
+                            : (HIGHLIGHT == FORM_PIECEWISE) ? ((OUT_BITS + 8 > 14) ? OUT_BITS + 8
+                                                                                   : 14)
+                            : 5;
 // The highlight's word of the span: the specular unit's table and a, or the form's word
 localparam HW_WIDTH = IS_BRDF ? BRDF_K_WIDTH : TSEL_BITS + AW;
 // The diffuse jobs' a (ROM 9's word of n = 1) is 1.0 when n = 1's k is 1 (a = sqrt(n/k)) or a
@@ -279,8 +285,7 @@ generate
         shading_core_PARAMETER_ERROR_DIFFUSE_needs_N_FIRST_1 u_error ();
     end
     if (!IS_SPEC && !IS_BRDF) begin : g_check_highlight
-        shading_core_PARAMETER_ERROR_HIGHLIGHT_must_be_specular_or_a_BRDF_form_with_a_pipe
-            u_error ();
+        shading_core_PARAMETER_ERROR_HIGHLIGHT_must_be_specular_or_a_BRDF_form u_error ();
     end
     if (FIFO_DEPTH <= PIXEL_PIPE) begin : g_check_fifo_pipe
         shading_core_PARAMETER_ERROR_FIFO_DEPTH_must_exceed_the_pixels_in_flight u_error ();

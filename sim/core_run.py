@@ -8,6 +8,7 @@ model gives and the span beat that reproduces it."""
 from __future__ import annotations
 
 import hashlib
+import math
 import os
 import re
 import shutil
@@ -20,7 +21,7 @@ from model.hw.sources import source_list
 from model.hw.synth import synth_parameters
 from model.render import core
 from model.render.pipeline import BRDF_METHODS, METHODS, PipelineConfig
-from model.units import divider, gouraud, specular
+from model.units import brdf, divider, gouraud, specular
 from sim import vector_run
 from sim.runner import SIM_BUILD, object_cache
 
@@ -321,13 +322,17 @@ def random_spans(fmt: core.SpanFormat, lengths, seed: int, lit: float = 0.0) -> 
     (spec set, n log-uniform over 1..1000, z0 within the width of cos^n, pi/2 / sqrt(n), of the
     highlight's centre, dz small enough that most of the span stays there: the highlight's
     value in most pixels, and neighbouring spans of different n, which a random angle, mostly
-    beyond pi/2, leaves dark); 0 draws the same beats as before it was added."""
+    beyond pi/2, leaves dark); 0 draws the same beats as before it was added.  With the
+    piecewise form's highlight half the lit spans reach as far as its bloom part shines (where
+    c / (alpha - beta c) falls to 2^-8, many times that width): the cubic's pixels inside the
+    junction, the divider's beyond it, and spans across it."""
     import numpy as np
 
     rng = np.random.default_rng(seed)
     g, s = fmt.cfg.gouraud, fmt.cfg.specular
     z_lo, z_hi = s.z_format.lo, s.z_format.hi
     half_pi = 1 << s.z_frac_bits
+    bloom_form = fmt.cfg.brdf is not None and fmt.cfg.brdf.form == "piecewise"
     layout = fmt.layout()
     words = []
     for n_px in (int(v) for v in lengths):
@@ -351,6 +356,10 @@ def random_spans(fmt: core.SpanFormat, lengths, seed: int, lit: float = 0.0) -> 
         if lit and rng.random() < lit:
             n = int(np.clip(round(1000.0 ** rng.random()), 1, 1000))
             width = int(half_pi / np.sqrt(n))  # cos^n falls to about e^-1.2 there
+            if bloom_form and rng.random() < 0.5:
+                bloom, level = brdf.bloom_coefficients(n), 2.0**-8
+                reach = math.acos(level * bloom.alpha / (1.0 + level * bloom.beta))
+                width = max(width, int(half_pi * min(1.0, reach / (math.pi / 2))))
             reach = int(rng.integers(-width, width + 1)) // max(n_px - 1, 1)
             row.update(
                 spec=1,

@@ -140,7 +140,8 @@ def test_the_latency_follows_the_highlight_path():
         assert core.latency(cfg, specular_path=False) == core.LATENCY
         assert core.core_cycles(100, cfg) == core.latency(cfg) + 100
     assert {f: core.latency(c) for f, c in BRDF_METHODS.items()} == {
-        "cosine_quadratic": 20, "quadratic": 21, "cubic": 28, "log2": 22}  # fmt: skip
+        "cosine_quadratic": 20, "quadratic": 21, "cubic": 28, "log2": 22,
+        "piecewise": 39}  # fmt: skip
     assert set(core.CORE_FORMS) <= set(brdf.RTL_FORMS)
     # docs/core.md's table, "Timing", is these
     from pathlib import Path
@@ -256,6 +257,8 @@ def test_random_spans_through_a_brdf_highlight_are_scoreboarded(form):
     fmt = core.SpanFormat(cfg)
     longest = cfg.gouraud.len_max
     lengths = [1] * 40 + [longest, 2, 1, 5] + [3] * 30 + [1, 2] * 15
+    if form == "piecewise":  # spans as far as its bloom part shines (core_run.random_spans)
+        lengths += [6] * 40
     words = random_words(fmt, len(lengths), seed=17, lengths=lengths, lit=0.7)
     layout = fmt.layout()
     for at, n in ((5, 0), (6, 1001), (7, 1023)):  # refused n between lit spans: tuser
@@ -275,6 +278,32 @@ def test_random_spans_through_a_brdf_highlight_are_scoreboarded(form):
                          for p, q in zip(got, off, strict=True))  # fmt: skip
         at += n_px
     assert lit_spans > len(lengths) // 2 and any(p["n_err"] for p in want)
+    if form == "piecewise":  # both parts lit: the cubic's, the divider's, spans across both
+        seen = _piecewise_parts(words, fmt, want, dark)
+        assert seen["cubic"] > 100 and seen["bloom"] > 100 and seen["across"] > 5, seen
+
+
+def _piecewise_parts(words, fmt, want, dark) -> dict[str, int]:
+    """Lit pixels of the piecewise form's cubic part (cos above its junction s = 0.5^(1/n)) and
+    of its bloom part (below), and the spans lit in both, by each pixel's angle z0 + x dz."""
+    import math
+
+    layout, zf = fmt.layout(), fmt.cfg.specular.z_frac_bits
+    seen, at = {"cubic": 0, "bloom": 0, "across": 0}, 0
+    for word in words:
+        f = core.unpack(layout, word)
+        parts = set()
+        for x in range(f["l"] + 1):
+            p, q = want[at + x], dark[at + x]
+            angle = abs(f["z0"] + x * f["dz"]) / (1 << zf) * math.pi / 2
+            lit = (p["r"], p["g"], p["b"]) != (q["r"], q["g"], q["b"])
+            if f["spec"] and 1 <= f["n"] <= 1000 and lit and angle < math.pi / 2:
+                part = "cubic" if math.cos(angle) > 0.5 ** (1 / f["n"]) else "bloom"
+                seen[part] += 1
+                parts.add(part)
+        seen["across"] += len(parts) == 2
+        at += f["l"] + 1
+    return seen
 
 
 def test_a_cubic_coefficient_a_stage_late_is_caught_with_the_span_that_shows_it(tmp_path):
@@ -311,6 +340,26 @@ def test_a_pixel_beat_after_the_last_expected_one_fails_the_bench(tmp_path):
                            rtl=rtl)  # fmt: skip
     r = core_run.run_words(words, fmt, core_run.parameters(DEFAULT), tag="core_mutant_on")
     assert r.mismatches == [] and r.pixels == len(core.core_pixels(words, fmt))
+
+
+def test_a_piecewise_coefficient_a_stage_early_is_caught_with_the_span_that_shows_it(tmp_path):
+    """The saved mutant shading_brdf_pipe_piecewise_beta_early (tests/mutants): the piecewise
+    form's beta taken from the pixel a stage behind.  Unlit spans leave it unseen; lit spans
+    of random n back to back, half of them reaching into the bloom part, show it, naming the
+    pixel and its span beat."""
+    from tests import mutants
+
+    mutant = mutants.build("shading_brdf_pipe_piecewise_beta_early", tmp_path)
+    rtl = [mutant if p.name == "shading_brdf_pipe.v" else p for p in source_list("shading_core")]
+    cfg = BRDF_METHODS["piecewise"]
+    fmt = core.SpanFormat(cfg)
+    params = core_run.parameters(cfg)
+    unlit = random_words(fmt, 60, seed=3)
+    r = core_run.run_words(unlit, fmt, params, tag="core_mutant_beta", rtl=rtl)
+    assert r.mismatches == []
+    lit = random_words(fmt, 60, seed=3, lit=0.8)
+    r = core_run.run_words(lit, fmt, params, tag="core_mutant_beta", rtl=rtl)
+    assert r.mismatches and "span beat 0x" in r.mismatches[0]
 
 
 def test_the_diffuse_path_keeps_multiplier_11_where_a_of_n_1_is_not_one():
@@ -380,10 +429,15 @@ def test_a_broken_core_is_caught_with_the_span_that_shows_it(tmp_path):
         ({"K3": 65}, "specular_unit_PARAMETER_ERROR_K_of_a_table_must_be_1_to_64"),
         ({"ALPHA": "cubic"}, "specular_unit_PARAMETER_ERROR_ALPHA_must_be_taylor_or_inflection"),
         ({"RECIP_BITS": 9}, "K_WIDTH_must_be_1_to_RECIP_BITS_plus_1"),
-        # the highlight's unit: a name without a pipe; a BRDF form's pixels in flight
-        ({"HIGHLIGHT": "phong"}, "HIGHLIGHT_must_be_specular_or_a_BRDF_form_with_a_pipe"),
-        ({"HIGHLIGHT": "piecewise"}, "HIGHLIGHT_must_be_specular_or_a_BRDF_form_with_a_pipe"),
+        # the highlight's unit: a name that is no form; a BRDF form's pixels in flight
+        ({"HIGHLIGHT": "phong"}, "HIGHLIGHT_must_be_specular_or_a_BRDF_form"),
+        ({"HIGHLIGHT": "log"}, "HIGHLIGHT_must_be_specular_or_a_BRDF_form"),
         ({"HIGHLIGHT": "cubic", "FIFO_DEPTH": 16}, "FIFO_DEPTH_must_exceed_the_pixels_in_flight"),
+        ({"HIGHLIGHT": "piecewise"}, "FIFO_DEPTH_must_exceed_the_pixels_in_flight"),  # 33 of 32
+        (
+            {"HIGHLIGHT": "piecewise", "FIFO_DEPTH": 64, "COEF_BITS": 22},
+            "brdf_unit_PARAMETER_ERROR_COEF_BITS_must_be_11_to_21_for_the_piecewise_form",
+        ),
         # the BRDF unit's own rules, by its own names
         (
             {"HIGHLIGHT": "quadratic", "COEF_BITS": 9},

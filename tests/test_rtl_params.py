@@ -854,19 +854,22 @@ def test_the_piecewise_modules_refuse_their_bad_parameters(tmp_path: Path) -> No
 CORE_CASES = [
     ("log2", {}, None),
     ("cubic", {}, None),
+    ("piecewise", {}, None),
     ("log2", {"HIGHLIGHT": "phong"}, "shading_core_PARAMETER_ERROR_HIGHLIGHT_must_be_specular"),
-    ("log2", {"HIGHLIGHT": "piecewise"}, "shading_core_PARAMETER_ERROR_HIGHLIGHT_must_be_"),
+    ("log2", {"HIGHLIGHT": "log"}, "shading_core_PARAMETER_ERROR_HIGHLIGHT_must_be_specular_or"),
     ("cubic", {"FIFO_DEPTH": 16}, "shading_core_PARAMETER_ERROR_FIFO_DEPTH_must_exceed_the_pixels"),
+    ("piecewise", {"FIFO_DEPTH": 32}, "shading_core_PARAMETER_ERROR_FIFO_DEPTH_must_exceed_the"),
     ("quadratic", {"COEF_BITS": 9}, "brdf_unit_PARAMETER_ERROR_COEF_BITS_must_be_10_to_32_for"),
 ]
 
 
 @pytest.mark.parametrize("tool", TOOLS)
 def test_the_core_refuses_what_it_cannot_build_under_every_tool(tool: str, tmp_path: Path) -> None:
-    """A HIGHLIGHT that is neither "specular" nor a BRDF form with a pipe in the core (the
-    family's piecewise form among them), a FIFO the pixels in flight of the cubic's pipe would
-    fill, and a BRDF form's widths the BRDF unit refuses: each stops elaboration naming the
-    rule; the BRDF methods' own parameter sets elaborate."""
+    """A HIGHLIGHT that is neither "specular" nor a BRDF form (a name that is no form, one a
+    form's name begins with), a FIFO the pixels in flight of the cubic's pipe or the piecewise
+    form's would fill (the piecewise form's 33 the default depth's 32), and a BRDF form's widths
+    the BRDF unit refuses: each stops elaboration naming the rule; the BRDF methods' own
+    parameter sets elaborate (the piecewise form's with its FIFO of 64 words)."""
     from model.render import core, pipeline
 
     assert INSTALLED[tool], f"{tool} is not installed"

@@ -62,10 +62,10 @@ BRDF_FRONT_BACK = 7
 """A BRDF highlight path's stages besides its form's (rtl/shading_brdf_pipe.v): the front
 S1..S5 (rtl/brdf_front.v: |zeta| in two steps, the angle-table address, the table's read, the
 w gate), x C and the rounding register."""
-CORE_FORMS = ("cosine_quadratic", "quadratic", "cubic", "log2")
-"""The BRDF forms the core's highlight path takes (rtl/shading_brdf_pipe.v, HIGHLIGHT): a form
-of ``brdf.unit.RTL_FORMS`` not here has no pipe in the core, and a configuration with it is
-refused by name."""
+CORE_FORMS = ("cosine_quadratic", "quadratic", "cubic", "log2", "piecewise")
+"""The BRDF forms the core's highlight path takes (rtl/shading_brdf_pipe.v, HIGHLIGHT): every
+form of ``brdf.unit.RTL_FORMS``; a form with RTL but not here would have no pipe in the core,
+and a configuration with it would be refused by name."""
 PIXEL_PIPE = SPECULAR_STAGES + 2
 """Clocks from a pixel issued (in S0, the span register's accumulators) to its beat on
 ``m_axis`` with the patent's highlight path: the specular stages S1..S10, the sum into the
@@ -77,6 +77,9 @@ FIFO_DEPTHS = tuple(1 << b for b in range(4, 13))
 """The output FIFO's legal depths (FIFO_DEPTH): powers of two from 16 to 4096, and above the
 pixels in flight (``pixel_pipe``), so that the credit count never stops the issuer while the
 output is ready."""
+FIFO_DEPTH = 32
+"""The output FIFO's depth by default (the RTL's FIFO_DEPTH), where the pixels in flight leave
+room in it (``default_fifo_depth``)."""
 
 
 def _round8(bits: int) -> int:
@@ -272,19 +275,27 @@ def _highlight_path(cfg: PipelineConfig, specular_path: bool | None) -> bool:
 def highlight_stages(cfg: PipelineConfig | None = None, specular_path: bool | None = None) -> int:
     """The pixel pipeline's stages S1..S(n) of a core for ``cfg`` (default: the default
     configuration): ``SPECULAR_STAGES`` for the patent's highlight path (or none), and for a
-    BRDF form ``BRDF_FRONT_BACK`` + the form's (``brdf.FORM_LATENCY``: 12 for the
-    cosine-quadratic, 13 for the quadratic, 14 for the log2, 20 for the cubic).  The diffuse
-    terms wait for the highlight."""
+    BRDF form ``BRDF_FRONT_BACK`` + the form's (``brdf.unit.form_latency``: 12 for the
+    cosine-quadratic, 13 for the quadratic, 14 for the log2, 20 for the cubic, 31 for the
+    piecewise form at its default widths).  The diffuse terms wait for the highlight."""
     cfg = check_core(cfg or PipelineConfig())
     if cfg.brdf is None or not _highlight_path(cfg, specular_path):
         return SPECULAR_STAGES
-    return BRDF_FRONT_BACK + brdf_unit.FORM_LATENCY[cfg.brdf.form]
+    return BRDF_FRONT_BACK + brdf_unit.form_latency(cfg.brdf)
 
 
 def pixel_pipe(cfg: PipelineConfig | None = None, specular_path: bool | None = None) -> int:
     """Clocks from a pixel issued to its beat on ``m_axis``: ``highlight_stages``, the FIFO's
     write and its output register."""
     return highlight_stages(cfg, specular_path) + 2
+
+
+def default_fifo_depth(cfg: PipelineConfig | None = None, specular_path: bool | None = None) -> int:
+    """The output FIFO's depth a core for ``cfg`` is built with by default: ``FIFO_DEPTH`` (32),
+    or the smallest of ``FIFO_DEPTHS`` above the pixels in flight where those fill it (64 for
+    the piecewise form's 33)."""
+    in_flight = pixel_pipe(cfg, specular_path)
+    return next(d for d in FIFO_DEPTHS if d >= FIFO_DEPTH and d > in_flight)
 
 
 def latency(cfg: PipelineConfig | None = None, specular_path: bool | None = None) -> int:
@@ -381,14 +392,15 @@ def core_parameters(
     fmt: SpanFormat | None = None,
     specular_path: bool | None = None,
     diffuse_path: bool | None = None,
-    fifo_depth: int = 32,
+    fifo_depth: int | None = None,
 ) -> dict[str, object]:
     """The Verilog parameters of ``rtl/shading_core.v`` for ``cfg``: the units' fields in upper
     case (the specular unit's ``LEN_WIDTH`` as ``SPEC_LEN_WIDTH``), the ROM images' paths,
-    which paths are built (default: what ``cfg``'s modes use) and the highlight's unit
+    which paths are built (default: what ``cfg``'s modes use), the highlight's unit
     (``HIGHLIGHT``: "specular", or ``cfg.brdf``'s form with that unit's own fields, its angle
-    formats being the specular unit's).  A configuration the core cannot build is refused by
-    name (``check_core``; ``fifo_depth`` one of ``FIFO_DEPTHS`` above ``pixel_pipe``)."""
+    formats being the specular unit's) and the output FIFO's depth (``default_fifo_depth``).
+    A configuration the core cannot build is refused by name (``check_core``; ``fifo_depth``
+    one of ``FIFO_DEPTHS`` above ``pixel_pipe``)."""
     check_core(cfg)
     fmt = fmt or SpanFormat(cfg)
     d, g, s = cfg.divider, cfg.gouraud, cfg.specular
@@ -400,6 +412,8 @@ def core_parameters(
     if diffuse_path:
         _diffuse_check(cfg)
     in_flight = pixel_pipe(cfg, specular_path)
+    if fifo_depth is None:
+        fifo_depth = default_fifo_depth(cfg, specular_path)
     if fifo_depth not in FIFO_DEPTHS or fifo_depth <= in_flight:
         raise ValueError(
             f"fifo_depth = {fifo_depth} is out of range: legal is a power of two from 16 to "

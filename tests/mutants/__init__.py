@@ -51,6 +51,12 @@ snippet is no longer in the RTL exactly once, ``build`` fails instead of testing
   n follows, that span's first pixel gets the previous span's b1.  Only back-to-back spans of
   different n with a lit highlight show it: the core's stream bench (tests/test_core.py) must
   fail on it, naming the pixel and the span beat.
+* ``shading_brdf_pipe_piecewise_beta_early``: the same path hands the piecewise form its beta
+  (the bloom part's slope, read into the register beside the multiplier beta x (r w - 1)) from
+  the pixel one stage behind (the tap one clock after w instead of two), so the last pixel of a
+  span gets the next span's beta.  Only back-to-back spans of different n whose last pixel lies
+  in the bloom part show it: the core's stream bench must fail on it, naming the pixel and the
+  span beat.
 """
 
 from __future__ import annotations
@@ -139,6 +145,12 @@ MUTANTS = {
         "shading_brdf_pipe_cubic_b1_early",
         "localparam CUBIC_B1_AT = 5;\n",
         "localparam CUBIC_B1_AT = 4;  // MUTANT: b1 of the pixel a stage behind\n",
+        unit="shading_brdf_pipe",
+    ),
+    "shading_brdf_pipe_piecewise_beta_early": Mutant(
+        "shading_brdf_pipe_piecewise_beta_early",
+        "localparam PIECEWISE_BETA_AT = 2;\n",
+        "localparam PIECEWISE_BETA_AT = 1;  // MUTANT: beta of the pixel a stage behind\n",
         unit="shading_brdf_pipe",
     ),
 }
