@@ -24,7 +24,7 @@ from dataclasses import dataclass
 from model.render import pipeline, scene, scenefile
 from model.units import brdf, divider, gouraud, specular
 
-CACHE_VERSION = 8
+CACHE_VERSION = 9
 """Part of every key: bump it when a figure's definition changes, so old cache files are unused."""
 DEFAULT_SIZE = 128
 K_SETS: dict[str, tuple[tuple[int, int, int], ...]] = {

@@ -111,7 +111,7 @@ def frame_clocks(counters: dict) -> int:
 def core_clocks(pixels: int, cfg: pipeline.PipelineConfig | None = None) -> float:
     """A frame's clocks through the shading core built for ``cfg`` (docs/core.md, "Timing"):
     ``core.core_cycles(pixels, cfg)`` = ``core.latency(cfg)`` + pixels (18 + pixels with the
-    patent's highlight path, 20 to 28 + pixels with a BRDF form's), the count the RTL's stream
+    patent's highlight path, 20 to 39 + pixels with a BRDF form's), the count the RTL's stream
     bench measures clock for clock (tests/test_core.py); 0 for a frame without pixels; NaN for
     a configuration the core cannot build (``core.check_core``: a BRDF form without a pipe in
     the core)."""
