@@ -369,10 +369,11 @@ def test_the_brdf_page_carries_the_recorded_resources() -> None:
                 continue
             assert r.ok, r
             if part in ("up5k", "gw1nr-9"):  # slower there than the specular unit, but log2
-                faster = r is log2 or (part == "gw1nr-9" and r is cubic)  # and the Gowin's cubic
+                # and the Gowin's cubic and piecewise form
+                faster = r is log2 or (part == "gw1nr-9" and r in (cubic, pw))
                 assert all((r.fmax_mhz > o.fmax_mhz) == faster for o in placed), (r, placed)
-            if part == "ecp5-25f":  # faster there than the specular unit's default, but one
-                assert (r.fmax_mhz > spec.fmax_mhz) == (r is not pw), (r, spec)
+            if part == "ecp5-25f":  # faster there than the specular unit's default
+                assert r.fmax_mhz > spec.fmax_mhz, (r, spec)
         assert cq.fits and q.fits  # both fit every part, targets met
         assert cq.lut < q.lut and cq.ff < q.ff and cq.bram < q.bram  # the cheaper form
         # the cubic: more of everything than the quadratic; no iCE40 holds it
@@ -394,15 +395,14 @@ def test_the_brdf_page_carries_the_recorded_resources() -> None:
         assert log2.bram == cq.bram + one_bram
         # the piecewise form: more LUTs, flip-flops and block RAMs than the cubic everywhere,
         # more DSP blocks (two more where beta's 18 bits are one block's operand); no iCE40
-        # holds it; the slowest form on the ECP5-25F, under its 100 MHz (no target)
+        # holds it; no target on the ECP5-25F, where its placement moves it across 100 MHz
         assert pw.lut > cubic.lut and pw.ff > cubic.ff and pw.bram > cubic.bram
         assert pw.dsp > cubic.dsp if PARTS[part].dsp else pw.dsp == 0
         if part in ("ecp5-25f", "gw1nr-9"):
             assert pw.dsp == cubic.dsp + 2 == 19 <= PARTS[part].dsp
         assert pw.fits == (part not in ("up5k", "hx8k")), pw
         if part == "ecp5-25f":
-            assert pw.target_mhz is None and pw.fmax_mhz < 100
-            assert all(pw.fmax_mhz < r.fmax_mhz for r in (cq, q, cubic, log2))
+            assert pw.target_mhz is None
     for part in ("up5k", "hx8k"):
         assert not row["specular_unit", "default", part].fits
         assert row["brdf_unit", "cubic", part].bram == 38 > PARTS[part].bram

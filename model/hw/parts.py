@@ -170,10 +170,11 @@ TARGETS: dict[tuple[str, str, str], float] = {
     ("brdf_unit", "quadratic", "ecp5-25f"): 100.0,
     ("brdf_unit", "cubic", "ecp5-25f"): 100.0,
     ("brdf_unit", "log2", "ecp5-25f"): 100.0,
-    # no target for the piecewise form: 92.6 MHz on the ECP5-25F at seed 1, its critical path a
-    # route into and out of one of its 19 multiplier blocks (the cubic's products and beta x
-    # (r w - 1)), placed far from their registers among its 3200 flip-flops; it fits neither
-    # iCE40 (47 RAM40s)
+    # no target for the piecewise form: seed 1 placed it at 92.6 MHz on the ECP5-25F, its
+    # critical path a route into and out of one of its 19 multiplier blocks (the cubic's
+    # products and beta x (r w - 1)), placed far from their registers among its 3200
+    # flip-flops, and at 112.5 MHz once the BRDF front was its own module (the datapath the
+    # same): placement alone moves it across 100 MHz; it fits neither iCE40 (47 RAM40s)
     # the streaming shading core (sim.synth_tops names its configurations): both paths, the
     # highlight path alone, and the highlight through the two small BRDF forms' pipes (the
     # log2 form: 106.2 MHz, seed 1; the cosine-quadratic: see SEEDS)
