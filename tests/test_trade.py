@@ -746,3 +746,29 @@ def test_bad_config_or_part_is_one_line_before_any_work(tmp_path, monkeypatch, c
         assert status == 2 and captured.out == "" and len(lines) == 1, captured
         assert lines[0].startswith(f"shading trade: error: {why}"), lines[0]
     assert not (tmp_path / "o").exists()
+
+
+def test_the_throughput_front_says_why_a_family_has_no_point():
+    """A family with no throughput on the part is named with its reason: no core clocks (no
+    shading core built with it) or core clocks but no Fmax (its units not placed on the part,
+    as the cubic and the piecewise form on the UP5K, which they do not fit)."""
+    nan = float("nan")
+
+    def row(label, family, core, mpx, on):
+        return {
+            "label": label, "family": family, "nmse": 1e-4, "px_per_clock_core": core,
+            "hw_mpx_per_s": mpx, "pareto_cycles": False, "pareto_bits": False,
+            "pareto_lut": False, "pareto_throughput": on,
+        }  # fmt: skip
+
+    rows = [
+        row("default", "cos^k", 0.99, 99.0, True),
+        row("brdf=log2", "log2", 0.99, 98.0, False),
+        row("brdf=cubic", "cubic", 0.99, nan, False),
+        row("brdf=x", "x", nan, nan, False),
+    ]
+    (line,) = [x for x in trade.front_lines(rows) if x.startswith("* NMSE vs throughput: ")]
+    assert line == (
+        "* NMSE vs throughput: default (cos^k); no point of cubic, log2, x (x: no shading core "
+        "built with it; cubic: no Fmax, its units not placed on the part: no throughput)"
+    )

@@ -224,14 +224,27 @@ def front_lines(rows: list[dict]) -> list[str]:
         listed = "; ".join(f"{label} ({fam})" for label, fam in members)
         absent = [f for f in run if f not in {fam for _, fam in members}]
         why = ""
-        no_core = [
+        unmeasured = [
             f
             for f in absent
             if name.endswith("throughput")
             and all(math.isnan(r["hw_mpx_per_s"]) for r in rows if r["family"] == f)
         ]
+        # no throughput: no core clocks (no shading core built with the family), or clocks but
+        # no Fmax (its units do not fit the part, or were not synthesised)
+        no_core = [
+            f
+            for f in unmeasured
+            if all(math.isnan(r["px_per_clock_core"]) for r in rows if r["family"] == f)
+        ]
+        no_fmax = [f for f in unmeasured if f not in no_core]
+        reasons = []
         if no_core:
-            why = f" ({', '.join(no_core)}: no shading core built with it, no throughput)"
+            reasons.append(f"{', '.join(no_core)}: no shading core built with it")
+        if no_fmax:
+            reasons.append(f"{', '.join(no_fmax)}: no Fmax, its units not placed on the part")
+        if reasons:
+            why = f" ({'; '.join(reasons)}: no throughput)"
         off = f"; no point of {', '.join(absent)}{why}" if absent else ""
         lines.append(f"* {name}: {listed}{off}")
     return [*lines, ""]
