@@ -306,22 +306,30 @@ def _piecewise_parts(words, fmt, want, dark) -> dict[str, int]:
     return seen
 
 
-def test_a_cubic_coefficient_a_stage_late_is_caught_with_the_span_that_shows_it(tmp_path):
-    """The saved mutant shading_brdf_pipe_cubic_b1_early (tests/mutants): the cubic's b1 taken
-    from the pixel a stage behind.  Spans of one n each leave it unseen (unlit spans too); the
-    lit back-to-back spans of random n show it, naming the pixel and its span beat."""
+@pytest.mark.parametrize(
+    ("form", "name"),
+    [
+        ("cubic", "shading_brdf_pipe_cubic_b1_early"),
+        ("piecewise", "shading_brdf_pipe_piecewise_beta_early"),
+    ],
+)
+def test_a_coefficient_a_stage_off_is_caught_with_the_span_that_shows_it(tmp_path, form, name):
+    """The saved mutants (tests/mutants) that hand the form a coefficient of the pixel a stage
+    behind: the cubic's b1, the piecewise form's beta.  Unlit spans leave them unseen; lit spans
+    of random n back to back (with the piecewise form half of them reaching into its bloom
+    part) show them, naming the pixel and its span beat."""
     from tests import mutants
 
-    mutant = mutants.build("shading_brdf_pipe_cubic_b1_early", tmp_path)
+    mutant = mutants.build(name, tmp_path)
     rtl = [mutant if p.name == "shading_brdf_pipe.v" else p for p in source_list("shading_core")]
-    cfg = BRDF_METHODS["cubic"]
+    cfg = BRDF_METHODS[form]
     fmt = core.SpanFormat(cfg)
     params = core_run.parameters(cfg)
     unlit = random_words(fmt, 60, seed=3)
-    r = core_run.run_words(unlit, fmt, params, tag="core_mutant_b1", rtl=rtl)
+    r = core_run.run_words(unlit, fmt, params, tag=f"core_mutant_{form}", rtl=rtl)
     assert r.mismatches == []
     lit = random_words(fmt, 60, seed=3, lit=0.8)
-    r = core_run.run_words(lit, fmt, params, tag="core_mutant_b1", rtl=rtl)
+    r = core_run.run_words(lit, fmt, params, tag=f"core_mutant_{form}", rtl=rtl)
     assert r.mismatches and "span beat 0x" in r.mismatches[0]
 
 
@@ -340,26 +348,6 @@ def test_a_pixel_beat_after_the_last_expected_one_fails_the_bench(tmp_path):
                            rtl=rtl)  # fmt: skip
     r = core_run.run_words(words, fmt, core_run.parameters(DEFAULT), tag="core_mutant_on")
     assert r.mismatches == [] and r.pixels == len(core.core_pixels(words, fmt))
-
-
-def test_a_piecewise_coefficient_a_stage_early_is_caught_with_the_span_that_shows_it(tmp_path):
-    """The saved mutant shading_brdf_pipe_piecewise_beta_early (tests/mutants): the piecewise
-    form's beta taken from the pixel a stage behind.  Unlit spans leave it unseen; lit spans
-    of random n back to back, half of them reaching into the bloom part, show it, naming the
-    pixel and its span beat."""
-    from tests import mutants
-
-    mutant = mutants.build("shading_brdf_pipe_piecewise_beta_early", tmp_path)
-    rtl = [mutant if p.name == "shading_brdf_pipe.v" else p for p in source_list("shading_core")]
-    cfg = BRDF_METHODS["piecewise"]
-    fmt = core.SpanFormat(cfg)
-    params = core_run.parameters(cfg)
-    unlit = random_words(fmt, 60, seed=3)
-    r = core_run.run_words(unlit, fmt, params, tag="core_mutant_beta", rtl=rtl)
-    assert r.mismatches == []
-    lit = random_words(fmt, 60, seed=3, lit=0.8)
-    r = core_run.run_words(lit, fmt, params, tag="core_mutant_beta", rtl=rtl)
-    assert r.mismatches and "span beat 0x" in r.mismatches[0]
 
 
 def test_the_diffuse_path_keeps_multiplier_11_where_a_of_n_1_is_not_one():
