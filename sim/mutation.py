@@ -491,9 +491,13 @@ def merge(full: DesignReport, part: DesignReport) -> DesignReport:
     """``full`` (a run of a design's whole list) with the outcomes of ``part`` (a later run of
     some of its mutants, e.g. the survivors given to a new proof) in place of its own for
     those mutants: the kills counted again, the seconds of both runs' checks and proofs added
-    up (the list and the build are the full run's)."""
+    up (the list and the build are the full run's).  The merge is proved (its survivors went to
+    the proofs) when the later run was and it covered every survivor of the full run, whether
+    or not the full run gave them to the proofs itself (``--no-prove`` first, then
+    ``--survivors --merge``)."""
     if (part.list_digest, part.inputs_digest) != (full.list_digest, full.inputs_digest):
         raise ValueError(f"{full.design}: the two runs are of different lists")
+    part_ids = [o.id for o in part.outcomes]
     by_id = {o.id: o for o in full.outcomes} | {o.id: o for o in part.outcomes}
     outcomes = tuple(by_id[i] for i in sorted(by_id))
     names = list(dict.fromkeys([*full.killed, *part.killed]))
@@ -511,7 +515,7 @@ def merge(full: DesignReport, part: DesignReport) -> DesignReport:
         full.build_s,
         full.run_s + part.run_s,
         full.equiv_s + part.equiv_s,
-        full.proved and part.proved,
+        part.proved and (full.proved or {o.id for o in full.survivors} <= set(part_ids)),
     )
 
 

@@ -3,7 +3,7 @@
 one: a unit's committed vector set, then soaks of the same configuration with other seeds; the
 core's committed set as the FuseSoC sim target runs it, then at full rate, with other idles
 and stalls, and random spans; the directed runs and the highlight lines, then the core's
-rounding, sparse and epicentre spans, last.  A check's
+rounding, sparse, epicentre and saturation spans, last.  A check's
 files (a soak, the random spans) are written when a mutant first reaches it, afresh: the
 generators and the model may change.
 
@@ -378,6 +378,12 @@ def core_checks(folder: Path) -> list[Check]:
                   highlight_spans(TABLE_SPANS, DIRECTED_SEED + 7, per_table=True), t_spans,
                   t_pixels))
     )  # fmt: skip
+    u_spans = folder / "checks" / "spans_saturation.hex"
+    u_pixels = folder / "checks" / "pixels_saturation.hex"
+    checks.append(
+        Check(CORE_SATURATION, None, 0, u_spans, u_pixels, SATURATION_SPANS, 0, 10, 10, 9,
+              writer=lambda: _write_span_files(saturation_spans(), u_spans, u_pixels))
+    )  # fmt: skip
     return checks
 
 
@@ -576,6 +582,44 @@ CORE_TABLES = (
     f"{TABLE_SPANS} epicentre spans, each cos^k table a quarter of them: as the highlight "
     "spans, n drawn from a k range chosen first, every angle within a quarter of the edge"
 )
+
+SATURATION_SPANS = 400
+CORE_SATURATION = (
+    f"{SATURATION_SPANS} saturation spans: the highlight alone (no diffuse term, Gouraud 0), C "
+    "within 1/2 level of its top, every angle within a sixteenth of the highlight's edge"
+)
+
+
+def saturation_spans(count: int = SATURATION_SPANS, seed: int = DIRECTED_SEED + 8) -> list[int]:
+    """The highlight unit's own saturation, seen at the core's output: spans of 1 to 64 pixels
+    with the highlight term alone (diff = 0, every Gouraud start and end 0, so the sum is the
+    highlight's word), C within half a level of its top (Q8.8: 255.5 and up) and every angle
+    close to the epicentre, where C x the table word rounds to 256 and the highlight clamps to
+    255.  Elsewhere the diffuse and Gouraud terms fill the sum, whose own saturation then
+    hides what value the highlight clamped to."""
+    import numpy as np
+
+    fmt = core.SpanFormat(CORE_CONFIG)
+    s = CORE_CONFIG.specular
+    layout = fmt.layout()
+    rng = np.random.default_rng(seed)
+    c_hi = (1 << s.c_width) - 1
+    right = 1 << s.z_frac_bits  # pi/2
+    words = []
+    for _ in range(count):
+        length = int(rng.integers(1, 65))
+        row = core.unpack(layout, core_run.random_spans(fmt, [length], int(
+            rng.integers(1 << 31)))[0])  # fmt: skip
+        n = int(rng.integers(1, 1001))
+        edge = max(1, int(math.acos(2.0 ** (-8.0 / n)) / (math.pi / 2) * right) // 16)
+        z0 = int(rng.integers(-edge, edge + 1))
+        step = max(1, (edge - abs(z0)) // length)
+        row.update(n=n, spec=1, diff=0, z0=z0, dz=int(rng.integers(-step, step + 1)),
+                   c=int(rng.integers(c_hi - (1 << (s.c_frac_bits - 1)), c_hi + 1)))  # fmt: skip
+        for ch in range(core.CHANNELS):
+            row[f"i_start{ch}"] = row[f"i_end{ch}"] = 0
+        words.append(core.pack(layout, row))
+    return words
 
 
 def passes(bench: Bench, check: Check, mutant: int, work: Path) -> bool:

@@ -179,6 +179,28 @@ def test_the_record_round_trips_through_a_report() -> None:
         assert again["designs"][name] == entry, name
 
 
+def test_a_merge_is_proved_when_the_later_run_proved_every_survivor() -> None:
+    """``merge``: a whole list run without the proofs (``--no-prove``), then its survivors
+    through the checks and the proofs (``--survivors --merge``), is a proved record; a later
+    run that left one survivor out, or gave none to the proofs, is not."""
+    o = mutation.Outcome
+
+    def report(outcomes, proved):
+        return mutation.DesignReport(
+            "d", 1, len(outcomes), {}, tuple(x for x in outcomes if x.equivalent),
+            tuple(x for x in outcomes if x.survivor), tuple(outcomes), "i", "l", 0, 0, 0, 0,
+            proved,
+        )  # fmt: skip
+
+    full = report([o(1, "m1", "set"), o(2, "m2", None), o(3, "m3", None)], False)
+    both = report([o(2, "m2", None, "proof"), o(3, "m3", None)], True)
+    merged = mutation.merge(full, both)
+    assert merged.proved and [x.id for x in merged.survivors] == [3]
+    assert [x.id for x in merged.equivalent] == [2]
+    assert not mutation.merge(full, report([o(2, "m2", None, "proof")], True)).proved
+    assert not mutation.merge(full, report([o(2, "m2", None), o(3, "m3", None)], False)).proved
+
+
 def test_highlight_lines_stay_in_the_highlight() -> None:
     """The specular unit's last check: the lines' pixels inside the highlight of their n, each
     line written with its operands and started.  A pixel shows as lit (non-zero: C x the
