@@ -814,8 +814,11 @@ def _elaborate_module(tool: str, module: str, params: dict[str, int], work: Path
         flags = [f"-G{k}={v}" for k, v in params.items()]
         cmd = ["verilator", "--lint-only", "-Wall", *lang, "--top-module", module, *flags, *src]
         return _run(cmd, work)
+    # yowasp reads only what it can map: a copy of the sources in the working folder
+    for name in MODULE_SOURCES[module]:
+        shutil.copy(RTL / name, work / name)
     values = " ".join(f"-set {k} {_yosys_value(v)}" for k, v in params.items())
-    script = f"read_verilog -defer {' '.join(src)}; chparam {values} {module}; "
+    script = f"read_verilog -defer {' '.join(MODULE_SOURCES[module])}; chparam {values} {module}; "
     return _run([YOSYS, "-q", "-p", script + f"hierarchy -check -top {module}"], work)
 
 
