@@ -246,7 +246,8 @@ def core_words(r: CoreReplay) -> list[int]:
     range, 1 to 23 pixels; with a BRDF highlight half of them lit, its values in most pixels),
     then n set: at the decoder's and the kept range's edges in the first beats, inside the kept
     range in a third of the others with the specular unit's highlight (a uniform n in 0..1023
-    hits a small table or a short kept range a few times in a thousand); and full-scale ramps,
+    hits a small table or a short kept range a few times in a thousand); with a BRDF highlight
+    one span of it at full scale (n = 1, angle 0) times the largest C; and full-scale ramps,
     down in some channels and up in the others, of 24 lengths up to the longest span."""
     fmt = core.SpanFormat(r.cfg)
     layout, s, g = fmt.layout(), r.cfg.specular, r.cfg.gouraud
@@ -265,6 +266,13 @@ def core_words(r: CoreReplay) -> list[int]:
             row["n"] = sorted(edges)[i]
         elif not brdf and rng.random() < 1 / 3:
             row["n"] = int(rng.integers(s.n_first, s.n_last + 1))
+        out.append(core.pack(layout, row))
+    if brdf:
+        # the highlight at full scale (n = 1 at angle 0: the form's 2^O - 1) times the largest
+        # C: C x F's rounding carries out and the intensity saturates (the ramps after it
+        # bring the carry down again)
+        row = core.unpack(layout, words[0])
+        row.update(l=3, spec=1, n=1, z0=0, dz=0, c=(1 << s.c_width) - 1)
         out.append(core.pack(layout, row))
     for i, pixels in enumerate(sorted({int(v) for v in np.linspace(2, g.len_max, 24)})):
         row = core.unpack(layout, words[i % len(words)])

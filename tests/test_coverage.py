@@ -175,3 +175,55 @@ def test_the_core_s_cubic_coefficients_and_q_stay_in_their_waived_bits():
     assert lo > 0 and hi < 1 << (p + 6), (lo / 2**p, hi / 2**p)
     assert round(lo / 2**p, 6) == 1.4e-5 and round(hi / 2**p, 2) == 34.14
     assert cq_max < 1 << 50 and rw_max < 1 << 38
+
+
+def test_the_core_s_piecewise_coefficients_num_and_den_stay_in_their_waived_bits():
+    """The bounds the waivers of the core's piecewise highlight give (sim/coverage_waivers.toml):
+    its coefficient table (the committed image, as the RTL reads it: {r, p0, b1} at port A,
+    {b2, s2, beta} at port B) holds the cubic's very words in its first four columns (so the
+    cubic's bounds, the test above, hold for its cubic instance), never sets the word's bits 87,
+    71, 69, 53 and 52 and always sets bit 35 (s2 in [1, 2)); over every n and every angle-table
+    word (and 2^D, cos = 0) the bloom branch (round(r w, P) >= 2^P, rtl/brdf_piecewise.v) has
+    w >= 1, so num = c < 2^D; and den = s2r + round(beta rwb, BETA_FRAC) stays below 2^36 for
+    every 35-bit rwb (the cubic branch's wrapped ones too)."""
+    import numpy as np
+
+    from model.units.brdf import unit
+
+    cfg, cubic = unit.UNIT_CONFIGS["piecewise"], unit.UNIT_CONFIGS["cubic"]
+    c, d, p = cfg.coef_bits, cfg.cos_data_bits, cfg.work_bits
+    assert cfg.coefficients == ("r", "p0", "b1", "b2", "s2", "beta")
+    fracs = {name: q.frac_bits for name, q in cfg.coef_formats.items()}
+    assert (fracs["r"], fracs["s2"], fracs["beta"]) == (c - 11, c - 1, c - 1)
+    mask = (1 << c) - 1
+    ab = np.asarray(unit.read_rom(cfg, "coef"), dtype=np.int64).reshape(-1, 2)
+    cols = [(ab[:, j // 3] >> (c * (2 - j % 3))) & mask for j in range(6)]
+    pairs = np.asarray(unit.read_rom(cubic, "coef"), dtype=np.int64).reshape(-1, 2)
+    cubic_cols = [pairs[:, 0] >> c, pairs[:, 0] & mask, pairs[:, 1] >> c, pairs[:, 1] & mask]
+    for name, mine, theirs in zip(cfg.coefficients[:4], cols[:4], cubic_cols, strict=True):
+        assert np.array_equal(mine, theirs), name
+    words = np.zeros(len(ab), dtype=object)
+    for j, col in enumerate(cols):
+        words = words + (col.astype(object) << (c * (5 - j)))
+    never = int(np.bitwise_or.reduce(words))
+    always = int(np.bitwise_and.reduce(words))
+    assert [b for b in (87, 71, 69, 53, 52) if never >> b & 1] == []
+    assert always >> 35 & 1
+    # the image's two port words: A's bit 33 (p0's 15), B's 53 and 52 (b2's 17, 16) never set
+    assert not int(np.bitwise_or.reduce(ab[:, 0])) >> 33 & 1
+    assert not int(np.bitwise_or.reduce(ab[:, 1])) >> 52 & 3
+    assert int(np.bitwise_and.reduce(ab[:, 1])) >> 35 & 1
+    r, s2, beta = cols[0], cols[4], cols[5]
+    assert int(s2.min()) >= 1 << (c - 1) and int(s2.max()) < 1 << c  # s2 in [1, 2)
+    w = np.concatenate([np.asarray(unit.read_rom(cfg, "angle"), dtype=np.int64), [1 << d]])
+    shift = fracs["r"] + d - p
+    c_bloom = 0
+    for rn in r:
+        bloom = (rn * w + (1 << (shift - 1))) >> shift >= 1 << p
+        c_bloom = max(c_bloom, int(((1 << d) - w[bloom]).max(initial=0)))
+    assert 0 < c_bloom < 1 << d
+    assert int(r.max()) * (1 << d) < 1 << 38  # r w: bit 38 never set
+    s2r_max = int(s2.max()) << (p - fracs["s2"])
+    bp_max = (int(beta.max()) * ((1 << (p + 11)) - 1) + (1 << (fracs["beta"] - 1))) >> fracs["beta"]
+    assert s2r_max < 1 << 26 and bp_max < 0.6923 * 2**36, bp_max / 2**36
+    assert s2r_max + bp_max < 1 << 36  # den: bit 36 never set
