@@ -11,8 +11,9 @@ seed (sim/soak.py: stimulus, the protocol model's prediction, every output compa
 cycle; a run that mismatches stops the report).  The shading core's stream bench
 (sim/vectors/tb_shading_core.v) replays its committed span set and random spans with idles and
 stalls at the configurations tests/test_core.py runs, with n at the decoder's edges and in the
-kept range and full-scale ramps of 24 lengths added (``coverage_run.core_words``), every pixel
-compared with the model (sim/core_run.py).
+kept range and full-scale ramps of 24 lengths added (``coverage_run.core_words``; with a BRDF
+highlight also one span of n = 1 at angle 0 and the largest C, whose product carries into its
+top bits), every pixel compared with the model (sim/core_run.py).
 
 Per unit, ``verilator_coverage`` merges the runs' files into ``<out>/<unit>/coverage.dat`` and
 annotates the sources into ``<out>/<unit>/annotated/`` (``%000000`` marks a point never hit).
