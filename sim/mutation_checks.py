@@ -452,6 +452,14 @@ CORE_HIGHLIGHT = (
 )
 
 
+def _line(rng, edge: int, length: int) -> tuple[int, int]:
+    """A line's start angle and step (random) that keep its ``length`` pixels within ``edge``
+    of 0, drawn from ``rng`` in that order."""
+    z0 = int(rng.integers(-edge, edge + 1))
+    step = max(1, (edge - abs(z0)) // length)
+    return z0, int(rng.integers(-step, step + 1))
+
+
 def highlight_spans(
     count: int = HIGHLIGHT_SPANS, seed: int = DIRECTED_SEED + 4, per_table: bool = False
 ) -> list[int]:
@@ -478,11 +486,6 @@ def highlight_spans(
     def top_quarter() -> int:
         return int(rng.integers(c_hi - c_hi // 4, c_hi + 1))
 
-    def line(edge: int, length: int) -> tuple[int, int]:
-        z0 = int(rng.integers(-edge, edge + 1))
-        step = max(1, (edge - abs(z0)) // length)
-        return z0, int(rng.integers(-step, step + 1))
-
     words = []
     for _ in range(count):
         length = int(rng.integers(1, 201))
@@ -494,8 +497,8 @@ def highlight_spans(
         else:
             n = int(rng.integers(1, 1001))
         edge = int(math.acos(2.0 ** (-8.0 / n)) / (math.pi / 2) * right)
-        z0, dz = line(edge // 4 if per_table else edge, length)
-        diff_z0, diff_dz = line(right - 1, length)
+        z0, dz = _line(rng, edge // 4 if per_table else edge, length)
+        diff_z0, diff_dz = _line(rng, right - 1, length)
         row.update(n=n, spec=1, diff=1, z0=z0, dz=dz, diff_z0=diff_z0, diff_dz=diff_dz,
                    c=top_quarter())  # fmt: skip
         for ch in range(core.CHANNELS):
@@ -612,9 +615,8 @@ def saturation_spans(count: int = SATURATION_SPANS, seed: int = DIRECTED_SEED + 
             rng.integers(1 << 31)))[0])  # fmt: skip
         n = int(rng.integers(1, 1001))
         edge = max(1, int(math.acos(2.0 ** (-8.0 / n)) / (math.pi / 2) * right) // 16)
-        z0 = int(rng.integers(-edge, edge + 1))
-        step = max(1, (edge - abs(z0)) // length)
-        row.update(n=n, spec=1, diff=0, z0=z0, dz=int(rng.integers(-step, step + 1)),
+        z0, dz = _line(rng, edge, length)
+        row.update(n=n, spec=1, diff=0, z0=z0, dz=dz,
                    c=int(rng.integers(c_hi - (1 << (s.c_frac_bits - 1)), c_hi + 1)))  # fmt: skip
         for ch in range(core.CHANNELS):
             row[f"i_start{ch}"] = row[f"i_end{ch}"] = 0
