@@ -165,7 +165,7 @@ class Netlist:
     verilog: Path  # the wrapper and the netlist, one file
     design_il: Path  # the prepared original (RTLIL), for the equivalence checks
     width: int
-    inputs_digest: str  # of the sources, the ROM images and the parameters
+    inputs_digest: str  # of the prepared netlist (netlist_digest)
     list_digest: str  # of the mutation list
     seconds: float
 
@@ -219,17 +219,17 @@ def set_parameters(design: Design) -> dict[str, str]:
     return {**params, "RESET_ALL": "0"}
 
 
-def inputs_digest(design: Design) -> str:
-    """A digest of what a design's list is made from: the files of its source list, its ROM
-    images, its parameters, the seed and the list's size."""
+def netlist_digest(design_il: str) -> str:
+    """A digest of what a design's list is made from: the prepared netlist (``prep -flatten``'s
+    RTLIL, the ROM images' words and the parameters in it, every cell's source line in its
+    attributes), the seed and the list's size.  Yosys's comment lines (its version) are left
+    out.  An edit that leaves the netlist as it was (a unit's file whose module the design does
+    not elaborate, a comment) leaves the record current; any change of a cell, a wire or a
+    source line makes it stale."""
     digest = hashlib.sha256(repr((SEED, LIST_SIZE)).encode())
-    for path in source_list(design.top):
-        digest.update(path.name.encode() + path.read_bytes())
-    params = set_parameters(design)
-    for name, value in sorted(params.items()):
-        digest.update(f"{name}={Path(value.strip(chr(34))).name}".encode())
-        if name.endswith("ROM_FILE"):
-            digest.update(Path(value.strip('"')).read_bytes())
+    for line in design_il.splitlines():
+        if not line.startswith("#"):
+            digest.update(line.encode() + b"\n")
     return digest.hexdigest()[:16]
 
 
@@ -240,11 +240,10 @@ def quick_sample(rec: dict, n: int) -> list[int]:
     return [killed[(k * len(killed)) // n] for k in range(n)]
 
 
-def prepare(design: Design, out: Path = OUT) -> Netlist:
-    """The mutation list and the netlist with all of it (step 1 and 2 of the module's doc)."""
-    t0 = time.monotonic()
-    folder = out / design.top
-    src = folder / "src"
+def prepare_list(design: Design, src: Path) -> str:
+    """Step 1 of the module's doc in the folder ``src`` (made afresh): the sources and ROM
+    images copied there, the prepared netlist (``design.il``) and the mutation list
+    (``mutations.txt``); returns the netlist's digest (``netlist_digest``)."""
     if src.exists():
         shutil.rmtree(src)
     (src / "rom").mkdir(parents=True)
@@ -270,6 +269,16 @@ def prepare(design: Design, out: Path = OUT) -> Netlist:
         src,
         "prepare",
     )
+    return netlist_digest((src / "design.il").read_text())
+
+
+def prepare(design: Design, out: Path = OUT) -> Netlist:
+    """The mutation list and the netlist with all of it (step 1 and 2 of the module's doc)."""
+    t0 = time.monotonic()
+    folder = out / design.top
+    src = folder / "src"
+    top = design.top
+    inputs = prepare_list(design, src)
     lines = [ln for ln in (src / "mutations.txt").read_text().splitlines() if ln.strip()]
     mutations = tuple(Mutation(i, ln.strip()) for i, ln in enumerate(lines, 1))
     width = len(mutations).bit_length()
@@ -300,7 +309,7 @@ def prepare(design: Design, out: Path = OUT) -> Netlist:
         verilog,
         src / "design.il",
         width,
-        inputs_digest(design),
+        inputs,
         list_digest[:16],
         time.monotonic() - t0,
     )

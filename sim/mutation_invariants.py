@@ -87,6 +87,30 @@ GOURAUD_CLAMPED = (
 )
 
 
+# The shading core at its default configuration (three channels, 10 stages, FIFO_DEPTH 32):
+# the span register's accumulators and increments (``gacc_reg``, ``di_reg``), a side-band slice
+# of 50 bits per stage (``side_reg``, S1 in the low bits, each stage's Gouraud values in it),
+# then the FIFO's 32 words of 50 bits.
+_CORE_STAGES, _CORE_SIDE, _CORE_FIFO = 10, 50, 32
+# Core 244 (the ``l == 0`` test of a span's take never true: a one-pixel span loads the
+# divider's increment instead of 0): that span's one pixel is the accumulator's first value,
+# and the increment is added only after it, to an accumulator the next take loads again.  So
+# the two copies' accumulators agree while a span is active, their increments too while
+# pixels are left after the present one; a stage's side band (its Gouraud values) agrees while
+# the stage holds a pixel, and the FIFO's words, written only with such pixels, always.
+CORE_ONE_PIXEL_SPAN = (
+    "!gold:act_reg || (gold:gacc_reg == gate:gacc_reg"
+    " && (gold:cnt_reg == 11'd0 || gold:di_reg == gate:di_reg))",
+    *(
+        f"!gold:v_reg[{s}] || gold:side_reg[{(s + 1) * _CORE_SIDE - 1}:{s * _CORE_SIDE}]"
+        f" == gate:side_reg[{(s + 1) * _CORE_SIDE - 1}:{s * _CORE_SIDE}]"
+        for s in range(_CORE_STAGES)
+    ),
+    *(f"gold:\\u_fifo.mem[{w}] == gate:\\u_fifo.mem[{w}] " for w in range(_CORE_FIFO)),
+    "gold:u_fifo.out_reg == gate:u_fifo.out_reg",
+)
+
+
 def selector(command: str) -> str:
     """What names a mutation across netlists: its mode, the wire and bit it changes (and the
     bit that controls it), not the cell, whose name carries Yosys's running numbers; the
@@ -101,6 +125,11 @@ def selector(command: str) -> str:
 
 MUTANT: dict[tuple[str, str], tuple[str, ...]] = {
     ("gouraud_segment", "-mode cnot1 -wire start_reg -wirebit 8 -ctrlbit 23"): GOURAUD_CLAMPED,
+    (
+        "shading_core",
+        "mutate -mode const1 -module shading_core -cell $eq$shading_core.v:725$166 -port A"
+        " -portbit 3 -src shading_core.v:725.49-725.72",
+    ): CORE_ONE_PIXEL_SPAN,
 }
 
 

@@ -246,8 +246,12 @@ def cut_products(il: str) -> str:
 PROBE = "mutation_probe_"
 # A wire of an invariant: ``gold:name`` or ``gate:name`` (a named wire of the flattened design,
 # dots for its hierarchy, a generate block's index before a dot: g_increment[2].u_increment.q),
-# a Verilog bit select may follow
-_INVARIANT_WIRE = re.compile(r"\b(gold|gate):([A-Za-z_]\w*(?:(?:\[\d+\])?\.[A-Za-z_]\w*)*)")
+# a Verilog bit select may follow; or, as Verilog escapes a name, ``gold:\name`` up to the
+# next white space, for a name that ends in an index (a memory's word once mapped to
+# registers: ``gold:\u_fifo.mem[3] ``)
+_INVARIANT_WIRE = re.compile(
+    r"\b(gold|gate):(?:\\(\S+)(?=\s)|([A-Za-z_]\w*(?:(?:\[\d+\])?\.[A-Za-z_]\w*)*))"
+)
 
 
 def probe_name(wire: str) -> str:
@@ -258,13 +262,17 @@ def probe_name(wire: str) -> str:
 
 def invariant_wires(invariants: tuple[str, ...]) -> list[str]:
     """The wires the invariants read (``gold:name``, ``gate:name``), each once."""
-    return list(dict.fromkeys(w for inv in invariants for _, w in _INVARIANT_WIRE.findall(inv)))
+    return list(
+        dict.fromkeys(e or w for inv in invariants for _, e, w in _INVARIANT_WIRE.findall(inv))
+    )
 
 
 def invariant_verilog(invariant: str) -> str:
     """The invariant with each ``gold:name`` / ``gate:name`` made the miter's wire of that
     copy's probe (``gold_mutation_probe_name``)."""
-    return _INVARIANT_WIRE.sub(lambda m: f"{m.group(1)}_{probe_name(m.group(2))}", invariant)
+    return _INVARIANT_WIRE.sub(
+        lambda m: f"{m.group(1)}_{probe_name(m.group(2) or m.group(3))}", invariant
+    )
 
 
 def probed(il: str, top: str, wires: list[str]) -> str:

@@ -158,6 +158,11 @@ SLOW: dict[str, str] = {
         "test_the_stage_invariants_prove_a_survivor_and_find_a_killed_mutant_s_counterexample "
         "(the same proof with the specular unit's invariants, a few seconds)"
     ),
+    "tests/test_mutation.py::"
+    "test_the_one_pixel_span_invariants_find_a_killed_mutant_s_counterexample": (
+        "the core's miter with the same invariants (a minute or more); quick: "
+        "test_an_invariant_is_proven_not_assumed"
+    ),
     # -- second simulator runs of checks the quick tier makes under Icarus
     "tests/test_vectors.py::test_timed_replay_of_a_generated_stimulus[verilator]": (
         "a Verilator build of every unit (45 s); quick: the Icarus run"
