@@ -24,11 +24,11 @@ import numpy as np
 from model.hw.sources import source_list
 from model.render import core
 from model.render.pipeline import METHODS, PipelineConfig
-from model.units import divider, gouraud, specular
+from model.units import brdf, divider, gouraud, specular
 from sim import core_run, soak, units, vector_run, vector_sets
 from sim.runner import SIM_BUILD, unit_parameters
 
-UNITS = ("divider_shift", "gouraud_segment", "specular_unit", "shading_core")
+UNITS = ("divider_shift", "gouraud_segment", "specular_unit", "brdf_unit", "shading_core")
 BUILDS = SIM_BUILD / "coverage_builds"
 COVER_FLAGS = ("--coverage-line", "--coverage-toggle")
 FLAGS = ("--x-assign", "fast", "--x-initial", "fast", "-Wno-fatal", "-Wno-lint", "-Wno-style")
@@ -36,6 +36,10 @@ FLAGS = ("--x-assign", "fast", "--x-initial", "fast", "-Wno-fatal", "-Wno-lint",
 MAKE_VARS = ("OPT_FAST=-O0", "OPT_SLOW=-O0", "OPT_GLOBAL=-O0")
 RUNTIME = ("verilated.o", "verilated_cov.o", "verilated_timing.o", "verilated_threads.o")
 SOAK_SEED = 1
+# The BRDF unit's soaks: the form it defaults to (rtl/brdf_unit.v FORM = "cosine_quadratic")
+# deep; the piecewise form 80k, not 20k: only n = 3..6 set b1's bits 12 and 10 (the soak draws
+# such an n about once in 500 writes), and at 20k cycles they never fell; the others 20k.
+BRDF_SOAKS = {"cosine_quadratic": 350_000, "piecewise": 80_000}
 CORE_SEED = 7
 
 # The bench's main: verilator --binary's loop, then the coverage file (+COVERAGE_FILE=).
@@ -117,6 +121,11 @@ def plan(unit: str) -> list[Replay | CoreReplay]:
             Replay("specular_inflection_soak", "inflection", specular.INFLECTION, 20_000),
             Replay("specular_kept_soak", "kept", specular.KEPT, 20_000),
             Replay("specular_up5k_soak", "up5k", specular.UP5K, 20_000),
+        ],
+        # a configuration is a form (the committed sets brdf_<form> name the same ones)
+        "brdf_unit": [
+            Replay(f"brdf_{form}_soak", form, cfg, BRDF_SOAKS.get(form, 20_000))
+            for form, cfg in brdf.UNIT_CONFIGS.items()
         ],
     }[unit]
     return [r for r in sets if units.spec(r.cfg).toplevel == unit] + soaks
