@@ -37,6 +37,28 @@ def test_waivers_file_is_well_formed():
         assert len(w.reason) > 20, f"{w.label()}: say why the gap cannot be closed"
 
 
+def test_each_unit_s_plan_replays_its_committed_sets_and_its_soaks():
+    """Every unit but the core replays each committed vector set of its own and soaks; the BRDF
+    unit each of its five forms twice, its committed set brdf_<form> and a soak, both under the
+    form's name (one configuration each, merged into one report)."""
+    from model.units import brdf
+    from sim import coverage_run, units, vector_sets
+
+    for unit in coverage.UNITS:
+        if unit == "shading_core":
+            continue
+        runs = coverage_run.plan(unit)
+        sets = {r.name for r in runs if not r.cycles}
+        mine = {n for n, (cfg, _) in vector_sets.SETS.items() if units.spec(cfg).toplevel == unit}
+        assert sets == mine and sets, unit
+        assert any(r.cycles for r in runs), unit
+        assert all(units.spec(r.cfg).toplevel == unit for r in runs), unit
+    brdf_runs = coverage_run.plan("brdf_unit")
+    soaked = {r.config for r in brdf_runs if r.cycles}
+    assert {r.config for r in brdf_runs} == soaked == set(brdf.UNIT_CONFIGS)
+    assert all(r.cfg == brdf.UNIT_CONFIGS[r.config] for r in brdf_runs)
+
+
 def point(file: str, kind: str, line: int, what: str, count: int) -> coverage_points.Point:
     return coverage_points.Point(file, kind, line, 0, what, (line,), count)
 
@@ -138,7 +160,8 @@ def test_the_core_s_gouraud_accumulator_bound_holds_for_every_span():
 
 
 def test_the_core_s_cubic_coefficients_and_q_stay_in_their_waived_bits():
-    """The bounds the waivers of the core's cubic highlight give (sim/coverage_waivers.toml):
+    """The bounds the waivers of the core's cubic highlight and of the BRDF unit's cubic give
+    (sim/coverage_waivers.toml; the same table and widths):
     its coefficient table (the committed image, as the RTL reads it) never sets p0's bit 15,
     b1's bits 17 and 15 or b2's 17 and 16; and over every n's coefficients and every angle-table
     word (and 2^D, cos = 0) the RTL's q = round(tau h, P) + p0 (rtl/brdf_cubic.v, tau floored at
@@ -178,7 +201,8 @@ def test_the_core_s_cubic_coefficients_and_q_stay_in_their_waived_bits():
 
 
 def test_the_core_s_piecewise_coefficients_num_and_den_stay_in_their_waived_bits():
-    """The bounds the waivers of the core's piecewise highlight give (sim/coverage_waivers.toml):
+    """The bounds the waivers of the core's piecewise highlight and of the BRDF unit's piecewise
+    form give (sim/coverage_waivers.toml; the same table and widths):
     its coefficient table (the committed image, as the RTL reads it: {r, p0, b1} at port A,
     {b2, s2, beta} at port B) holds the cubic's very words in its first four columns (so the
     cubic's bounds, the test above, hold for its cubic instance), never sets the word's bits 87,
@@ -227,3 +251,21 @@ def test_the_core_s_piecewise_coefficients_num_and_den_stay_in_their_waived_bits
     bp_max = (int(beta.max()) * ((1 << (p + 11)) - 1) + (1 << (fracs["beta"] - 1))) >> fracs["beta"]
     assert s2r_max < 1 << 26 and bp_max < 0.6923 * 2**36, bp_max / 2**36
     assert s2r_max + bp_max < 1 << 36  # den: bit 36 never set
+
+
+def test_the_brdf_cosine_quadratic_and_quadratic_products_stay_in_their_waived_bits():
+    """The bounds the waivers of the cosine-quadratic and the quadratic give, in the core's
+    highlight and in the BRDF unit (the same widths; the unit registers 7n of any 10-bit n):
+    7n w <= 7161 x 2^20 < 2^33; the quadratic's a (its table, the committed image) at most
+    786.44 in Q10.8 = 201329, so a w <= 201329 x 2^20 < 2^38 and (a w + 8) >> 4 < 2^34."""
+    import numpy as np
+
+    from model.units.brdf import unit
+
+    cq, quad = unit.UNIT_CONFIGS["cosine_quadratic"], unit.UNIT_CONFIGS["quadratic"]
+    w_max = 1 << cq.cos_data_bits
+    assert cq.cos_data_bits == quad.cos_data_bits == 20
+    assert 7 * 1023 == 7161 and 7161 * w_max < 1 << 33
+    a = np.asarray(unit.read_rom(quad, "coef"), dtype=np.int64)
+    assert int(a.min()) >= 0 and int(a.max()) <= 201329, int(a.max())
+    assert 201329 * w_max < 1 << 38 and (201329 * w_max + 8) >> 4 < 1 << 34
