@@ -91,8 +91,9 @@ class CoreReplay:
 
 
 def plan(unit: str) -> list[Replay | CoreReplay]:
-    """Every run of ``unit``: its committed vector sets, then the soaks tests/test_soak.py
-    runs (the default configuration deep, the others 20k cycles)."""
+    """Every run of ``unit``: its committed vector sets, then soaks of the configurations
+    tests/test_soak.py soaks (the default configuration deep, the others 20k cycles; the BRDF
+    unit's piecewise form 80k, ``BRDF_SOAKS``)."""
     if unit == "shading_core":
         out: list[Replay | CoreReplay] = [
             CoreReplay("core_default", "default", METHODS["diffuse"]),
