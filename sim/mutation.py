@@ -67,6 +67,7 @@ from dataclasses import asdict, dataclass
 from pathlib import Path
 
 from model.hw.sources import source_list
+from model.units import brdf
 from sim import core_run, mutation_invariants, units, vector_run, vector_sets
 from sim.mutation_checks import (
     CORE_CONFIG,
@@ -81,7 +82,14 @@ from sim.mutation_checks import (
     unit_checks,
     wrapper,
 )
-from sim.mutation_proof import PDR_TIMEOUT, Contract, equivalence, mutate_field, run_yosys
+from sim.mutation_proof import (
+    PDR_TIMEOUT,
+    Contract,
+    equivalence,
+    mutate_field,
+    run_yosys,
+    unbuildable,
+)
 from sim.mutation_report import table, write_docs
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -93,8 +101,11 @@ LIST_SIZE = 300
 
 @dataclass(frozen=True)
 class Design:
-    """A design under mutation: its top (``rtl/<top>.f``) and its committed vector set."""
+    """A design under mutation: its name (the record's, ``out/mutants/<name>/``), its top
+    (``rtl/<top>.f``) and its committed vector set, whose parameters it is built with (the
+    BRDF unit is one design per form: each form's datapath is its own module)."""
 
+    name: str
     top: str
     vector_set: str
     # the second proof method (a register matched as what it shows while busy_reg is 1): the
@@ -120,12 +131,13 @@ class Design:
 
 
 DESIGNS: dict[str, Design] = {
-    d.top: d
+    d.name: d
     for d in (
-        Design("divider_shift", "divider_default", busy_proof=True),
-        Design("gouraud_segment", "gouraud_default", busy_proof=True),
-        Design("specular_unit", "specular_default"),
-        Design("shading_core", "core_default"),
+        Design("divider_shift", "divider_shift", "divider_default", busy_proof=True),
+        Design("gouraud_segment", "gouraud_segment", "gouraud_default", busy_proof=True),
+        Design("specular_unit", "specular_unit", "specular_default"),
+        *(Design(f"brdf_unit_{form}", "brdf_unit", f"brdf_{form}") for form in brdf.RTL_FORMS),
+        Design("shading_core", "shading_core", "core_default"),
     )
 }
 
@@ -275,7 +287,7 @@ def prepare_list(design: Design, src: Path) -> str:
 def prepare(design: Design, out: Path = OUT) -> Netlist:
     """The mutation list and the netlist with all of it (step 1 and 2 of the module's doc)."""
     t0 = time.monotonic()
-    folder = out / design.top
+    folder = out / design.name
     src = folder / "src"
     top = design.top
     inputs = prepare_list(design, src)
@@ -283,7 +295,12 @@ def prepare(design: Design, out: Path = OUT) -> Netlist:
     mutations = tuple(Mutation(i, ln.strip()) for i, ln in enumerate(lines, 1))
     width = len(mutations).bit_length()
     script = ["read_rtlil design.il"]
-    script += [m.ctrl_command(width) for m in mutations]
+    # a mutation of an asynchronous ROM port's enable or reset cannot be written (Yosys requires
+    # them constant) and changes nothing (the cell never reads them): its mutsel value selects
+    # the original, and the proofs say why (mutation_proof.unread_port)
+    design_text = (src / "design.il").read_text()
+    script += [m.ctrl_command(width) for m in mutations
+               if not unbuildable(design_text, m.command)]  # fmt: skip
     # splitnets: one wire per bit.  A mutation of one bit of a vector reassigns that bit from
     # a multiplexer fed by the vector's other bits, which Verilator, ordering whole vectors,
     # takes for a combinational loop and settles by iterating every cycle; split, each bit is
@@ -370,16 +387,17 @@ def run_design(
                 check.writer()
             # the original passes every check a mutant meets: so each can pass as well as fail
             if not passes(bench, check, 0, work):
-                raise RuntimeError(f"{design.top}: the original (mutant 0) fails {check.name}")
+                raise RuntimeError(f"{design.name}: the original (mutant 0) fails {check.name}")
             results = list(pool.map(lambda i, c=check: passes(bench, c, i, work), alive))
             for i, ok in zip(alive, results, strict=True):
                 if not ok:
                     killed_by[i] = check.name
             alive = [i for i, ok in zip(alive, results, strict=True) if ok]
-            print(f"  {design.top}: {check.name}: {len(alive)} alive", file=sys.stderr, flush=True)
+            print(f"  {design.name}: {check.name}: {len(alive)} alive", file=sys.stderr, flush=True)
     run_s = time.monotonic() - t0
     t0 = time.monotonic()
     proven: dict[int, str] = {}
+    design_text = net.design_il.read_text() if prove and alive else ""
     if prove:
         with ThreadPoolExecutor(max_workers=jobs) as pool:
             for i, how in zip(alive, pool.map(
@@ -387,7 +405,9 @@ def run_design(
                         net.folder / "equiv" / str(i), design.top, net.design_il,
                         by_id[i].command, design.busy_proof, contract=design.contract,
                         pdr_timeout=pdr_timeout, earlier=not reset_proof_only,
-                        invariants=mutation_invariants.invariants(design.top, by_id[i].command),
+                        invariants=mutation_invariants.invariants(
+                            design.name, by_id[i].command, design_text
+                        ),
                     ),
                     alive,
                 ),
@@ -401,7 +421,7 @@ def run_design(
     )
     killed = {c.name: sum(1 for o in outcomes if o.killed_by == c.name) for c in checks}
     report = DesignReport(
-        design.top,
+        design.name,
         SEED,
         len(outcomes),
         killed,

@@ -18,12 +18,16 @@ import math
 import random
 import re
 import subprocess
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from model.render import core
 from model.render.pipeline import METHODS
+from model.units import brdf
+from model.units.brdf import FixedConfig
 from model.units.specular import SpecularConfig
 from sim import core_run, soak_file, soak_predict, soak_stimulus, units, vector_run, vector_sets
 from sim.protocol import UnitSpec
@@ -138,6 +142,11 @@ def unit_checks(vector_set: str, folder: Path) -> list[Check]:
             if isinstance(cfg, SpecularConfig)
             else []
         ),
+        *(
+            [_inputs_check(cfg, BRDF_HIGHLIGHT, brdf_highlight_inputs, folder)]
+            if isinstance(cfg, FixedConfig)
+            else []
+        ),
     ]
 
 
@@ -196,6 +205,10 @@ def directed_inputs(cfg: units.UnitConfig) -> list[dict[str, int]]:
             wait = {
                 "divider_shift": 24,
                 "gouraud_segment": length // max(getattr(cfg, "p", 1), 1) + 4,
+                # the BRDF unit's latency is the form's (up to 32 clocks): the line's last pixel
+                "brdf_unit": length + brdf.fill_latency(cfg) + 4
+                if isinstance(cfg, FixedConfig)
+                else 0,
             }
             rows += [row(idle, 0)] * wait.get(spec.toplevel, length + 24)
             if index % 2 == 0:  # a reset after every other job, its flags still up
@@ -219,39 +232,145 @@ def highlight_inputs(cfg: units.UnitConfig) -> list[dict[str, int]]:
     rarely; these meet one every few hundred pixels.  Each job is written, started and waited
     for."""
     spec = units.spec(cfg)
-    ops = spec.operands
-    ranges = {p.name: soak_stimulus.port_range(p) for p in ops}
+    ranges = {p.name: soak_stimulus.port_range(p) for p in spec.operands}
     rng = random.Random(DIRECTED_SEED + 2)
     zf = cfg.z_frac_bits
-    idle = {"rst_n": 1, "start": 0}
-    rows: list[dict[str, int]] = []
-    held = {p.name: 0 for p in ops}
+    c_lo, c_hi = ranges["c"]
+    len_hi = ranges["len"][1]
 
-    def row(base: dict[str, int], we: int) -> dict[str, int]:
+    def jobs() -> Iterator[dict[str, int]]:
+        for _ in range(HIGHLIGHT_JOBS):
+            n = rng.randint(1, 1000)
+            # the angle where cos^n falls to 1/256, in the angle register's LSBs (units of pi/2)
+            edge = int(math.acos(2.0 ** (-8.0 / n)) / (math.pi / 2) * (1 << zf))
+            length = rng.randint(1, len_hi)
+            z0 = rng.randint(-edge, edge)
+            step = max(1, (edge - abs(z0)) // length)
+            yield dict(
+                c=rng.randint(c_hi - (c_hi - c_lo) // 4, c_hi), n=n, len=length, z0=z0,
+                dz=rng.randint(-step, step),
+            )  # fmt: skip
+
+    return line_rows(spec, jobs(), lambda job: job["len"] + 24)
+
+
+def line_rows(
+    spec: UnitSpec, jobs: Iterable[dict[str, int]], wait: Callable[[dict[str, int]], int]
+) -> list[dict[str, int]]:
+    """Three reset cycles, then for each job (its operands by name) a cycle writing every
+    operand, the start, and ``wait(job)`` idle cycles (to its last result)."""
+    ops = spec.operands
+
+    def row(base: dict[str, int], we: int, held: dict[str, int]) -> dict[str, int]:
         out = dict(base)
         for p in ops:
             out[f"{p.name}_we"] = we
             out[f"{p.name}_in"] = held[p.name]
         return out
 
-    rows += [row({"rst_n": 0, "start": 0}, 0)] * 3
+    idle = {"rst_n": 1, "start": 0}
+    rows = [row({"rst_n": 0, "start": 0}, 0, {p.name: 0 for p in ops})] * 3
+    for job in jobs:
+        rows.append(row(idle, 1, job))
+        rows.append(row({"rst_n": 1, "start": 1}, 0, job))
+        rows += [row(idle, 0, job)] * wait(job)
+    return rows
+
+
+BRDF_HIGHLIGHT = (
+    "highlight lines: each inside the lit angles of its n (the form's word at least 1/256) or "
+    "across one of its form's marks (where the word leaves full scale, falls below 1/256 or to "
+    "0; the cubic's and the piecewise form's tau = 0 and tau = -16, the log2 form's x = 1), C in "
+    "its top quarter"
+)
+BRDF_HIGHLIGHT_JOBS = 3000
+# The steepest line across a mark: 2^BRDF_STEEPEST angle LSBs a pixel (4 table addresses at the
+# default widths); the shallowest: 1 LSB
+BRDF_STEEPEST = 16
+
+
+@functools.cache
+def brdf_marks(cfg: FixedConfig, n: int) -> tuple[int, tuple[int, ...]]:
+    """(edge, marks) of the BRDF unit's form for ``n``, as angle-table addresses (``addr_shift``
+    angle LSBs each; 2^COS_ADDR_BITS is pi/2): ``edge`` the last address whose output word is
+    at least 1/256 of full scale (``brdf.evaluate``), ``marks`` the addresses where the word's
+    kind changes (0, below 1/256, lit, full scale: the saturation of the peak, the highlight's
+    edge, the zero the log2 form's x = 3 clips to) and where the form's datapath takes another
+    branch: the cubic's and the piecewise form's tau = 1 - r w at 0 (the piecewise form's
+    junction from the cubic to the bloom part) and at its floor -16, the log2 form's
+    x = n (-log2 cos) at 1 (its octave boundary, where u = 1 + x reaches 2), the quadratic's
+    1 - a w and the cosine-quadratic's 1 - (7n/16) w at 0 (clipped there), found on the angle
+    table from the float coefficients (a line across one meets every rounding point near
+    it)."""
+    a_bits, o = cfg.cos_addr_bits, cfg.out_bits
+    addrs = np.arange((1 << a_bits) + 1, dtype=np.int64)
+    word = brdf.evaluate(cfg, addrs << cfg.addr_shift, n)
+    full, lit = (1 << o) - 1, 1 << (o - 8) if o > 8 else 1
+    kind = np.where(word == 0, 0, np.where(word < lit, 1, np.where(word < full, 2, 3)))
+    marks = set(np.nonzero(kind[1:] != kind[:-1])[0] + 1)
+    table = brdf.angle_table(cfg)
+    d = cfg.cos_data_bits
+    if cfg.form == "log2":
+        # x = n word >= 2^(D - 2): the second octave (the table word holds D - 2 fraction bits)
+        marks.add(int(np.searchsorted(table, (1 << (d - 2)) / n)))
+    if cfg.form in ("cubic", "piecewise"):
+        r = brdf.coefficient_values(cfg.form, n)[0]
+        for tau in (0.0, -16.0):  # w = (1 - tau) / r, D fraction bits
+            marks.add(int(np.searchsorted(table, (1.0 - tau) / r * (1 << d))))
+    # the quadratic's 1 - a w and the cosine-quadratic's 1 - (7n/16) w clipped at 0 (the word
+    # rounds to 0 a few addresses before)
+    scale = {"quadratic": lambda: brdf.coefficient_values("quadratic", n)[0],
+             "cosine_quadratic": lambda: brdf.cosine_quadratic_scale(n)}.get(cfg.form)  # fmt: skip
+    if scale is not None and scale() > 0:
+        marks.add(int(np.searchsorted(table, (1 << d) / scale())))
+    lit_addrs = np.nonzero(kind >= 2)[0]
+    edge = int(lit_addrs.max()) if lit_addrs.size else 0
+    return edge, tuple(sorted(int(m) for m in marks if 0 < m <= 1 << a_bits))
+
+
+def brdf_highlight_inputs(
+    cfg: units.UnitConfig, count: int = BRDF_HIGHLIGHT_JOBS
+) -> list[dict[str, int]]:
+    """Reset, then ``count`` lines of the BRDF unit (the specular unit's highlight
+    lines, ``highlight_inputs``, for a form's own highlight), each written, started and waited
+    for, n random in 1..1000, C in the top quarter of its range, the angle of either sign:
+    half of them inside the lit angles of n (``brdf_marks``' edge; every pixel's output word
+    at least 1/256, so a change of one table address, table word or product bit is likely to
+    change a result), half across one of n's marks chosen at random (the line's step
+    log-uniform from 1 angle LSB to 2^BRDF_STEEPEST, so that it meets the rounding points of
+    the angle table's address and of the form's products near it, one address after another,
+    or leaps across).  A random soak's lines leave the highlight within a few pixels and
+    cross a mark in few of them."""
+    assert isinstance(cfg, FixedConfig)
+    spec = units.spec(cfg)
+    ranges = {p.name: soak_stimulus.port_range(p) for p in spec.operands}
+    rng = random.Random(DIRECTED_SEED + 8)
+    shift = cfg.addr_shift
     c_lo, c_hi = ranges["c"]
     len_hi = ranges["len"][1]
-    for _ in range(HIGHLIGHT_JOBS):
-        n = rng.randint(1, 1000)
-        # the angle where cos^n falls to 1/256, in the angle register's LSBs (units of pi/2)
-        edge = int(math.acos(2.0 ** (-8.0 / n)) / (math.pi / 2) * (1 << zf))
-        length = rng.randint(1, len_hi)
-        z0 = rng.randint(-edge, edge)
-        step = max(1, (edge - abs(z0)) // length)
-        held.update(
-            c=rng.randint(c_hi - (c_hi - c_lo) // 4, c_hi), n=n, len=length, z0=z0,
-            dz=rng.randint(-step, step),
-        )  # fmt: skip
-        rows.append(row(idle, 1))
-        rows.append(row({"rst_n": 1, "start": 1}, 0))
-        rows += [row(idle, 0)] * (length + 24)
-    return rows
+    z_lo = ranges["z0"][0]
+    latency = brdf.fill_latency(cfg)
+
+    def jobs() -> Iterator[dict[str, int]]:
+        for k in range(count):
+            n = rng.randint(1, 1000)
+            edge, marks = brdf_marks(cfg, n)
+            length = rng.randint(1, len_hi)
+            if k % 2 == 0 or not marks:  # inside the lit angles, as the specular unit's
+                top = (edge << shift) + (1 << shift) // 2 - 1  # the edge address's last angle
+                z0 = rng.randint(-top, top)
+                step = max(1, (top - abs(z0)) // length)
+                dz = rng.randint(-step, step)
+            else:  # across a mark: the line starts before it and ends after it, either sign
+                mark = (rng.choice(marks) << shift) - (1 << shift) // 2  # the rounding point
+                dz = max(1, int(2.0 ** rng.uniform(0, BRDF_STEEPEST)))
+                z0 = max(mark - rng.randint(1, dz * length), z_lo)
+                sign = rng.choice((-1, 1))
+                z0, dz = sign * z0, sign * dz
+            c = rng.randint(c_hi - (c_hi - c_lo) // 4, c_hi)
+            yield dict(c=c, n=n, len=length, z0=z0, dz=dz)
+
+    return line_rows(spec, jobs(), lambda job: job["len"] + latency + 4)
 
 
 def operand_bit_jobs(

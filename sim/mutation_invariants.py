@@ -8,11 +8,11 @@ An invariant is a Verilog expression over the wires of the two copies, ``gold:<w
 original) and ``gate:<wire>`` (the mutant), by the flattened design's names (dots for its
 hierarchy), read as each copy's flip-flops show them; a bit select counts from the wire's least
 significant bit as 0, whatever its declared range (the core's ``v_reg[10:1]`` is ``[9:0]``
-here).  ``DESIGN`` holds a design's, given
-to every mutant of it that the earlier proofs leave; ``MUTANT`` a mutation's own (by its
-``selector``: its mode, wire and bits, which a new list of the same RTL names alike under
-another id, where the cell names carry Yosys's running numbers), given together with its
-design's.
+here).  ``DESIGN`` holds a design's (or finds them in its netlist: the BRDF unit's stages,
+``_brdf_stages``), given to every mutant of it that the earlier proofs leave; ``MUTANT`` a
+mutation's own (by its ``selector``: its mode, wire and bits, which a new list of the same RTL
+names alike under another id, where the cell names carry Yosys's running numbers), given
+together with its design's.
 
 Size: data and their reasons; the module only lists them.
 """
@@ -20,6 +20,10 @@ Size: data and their reasons; the module only lists them.
 from __future__ import annotations
 
 import re
+from collections.abc import Callable
+
+from model.units import brdf
+from sim import mutation_stages
 
 
 def _staged(stages: list[tuple[str, tuple[str, ...]]]) -> tuple[str, ...]:
@@ -49,7 +53,25 @@ SPECULAR_STAGES = _staged(
     ]
 )
 
-DESIGN: dict[str, tuple[str, ...]] = {"specular_unit": SPECULAR_STAGES}
+
+def _brdf_stages(il: str) -> tuple[str, ...]:
+    """The BRDF unit's pipeline (rtl/brdf_unit.v, "Pipeline"), as the specular unit's: stage
+    s's registers hold a pixel while v_reg[s] is set.  Each form's datapath has stages and
+    registers of its own (the log2 form's 7, the piecewise form's 24 with delay lines packed
+    into one vector), so they are found in the form's netlist (sim/mutation_stages.py: the
+    accumulator stage 0, every other stage the flip-flop bits that read only the stage
+    before), not listed: for the log2 form the front's S1..S5, the product's partial
+    products and sum, the table address with the octave and zero flags and their two delays
+    beside the second table's two read registers, lv, y, C x F."""
+    return mutation_stages.staged_invariants(il, "brdf_unit", "acc_reg", "v_reg")
+
+
+# A design's invariants: Verilog over the two copies, or a function of the design's netlist
+# (its prepared RTLIL) that gives them
+DESIGN: dict[str, tuple[str, ...] | Callable[[str], tuple[str, ...]]] = {
+    "specular_unit": SPECULAR_STAGES,
+    **{f"brdf_unit_{form}": _brdf_stages for form in brdf.RTL_FORMS},
+}
 
 
 def _magnitude(wire: str) -> str:
@@ -133,6 +155,11 @@ MUTANT: dict[tuple[str, str], tuple[str, ...]] = {
 }
 
 
-def invariants(design: str, command: str) -> tuple[str, ...]:
-    """The invariants the fourth proof asserts for the mutation ``command`` of ``design``."""
-    return DESIGN.get(design, ()) + MUTANT.get((design, selector(command)), ())
+def invariants(design: str, command: str, design_il: str = "") -> tuple[str, ...]:
+    """The invariants the fourth proof asserts for the mutation ``command`` of ``design``
+    (``design_il``: its prepared netlist, RTLIL, for a design whose invariants are found in
+    it)."""
+    given = DESIGN.get(design, ())
+    if callable(given):
+        given = given(design_il)
+    return given + MUTANT.get((design, selector(command)), ())

@@ -357,25 +357,38 @@ BUSY = "busy_reg"
 # Ports whose mutation no proof here can judge: Yosys's SAT model steps every flip-flop once a
 # cycle, whatever drives its clock, so an inverted clock would look unchanged.
 CLOCK_PORTS = ("CLK", "RD_CLK", "WR_CLK")
+# The ports of a ``$mem_v2`` read port that an asynchronous one (``RD_CLK_ENABLE`` 0) never
+# reads: its clock, and its enable and resets, which Yosys requires to be the constants 1, 0
+# and 0 there (kernel/mem.cc asserts it, so ``write_verilog`` refuses a netlist where a
+# mutation drives one: ``unbuildable``)
+ASYNC_UNREAD = ("RD_CLK", "RD_EN", "RD_ARST", "RD_SRST")
 
 
-def unread_clock(il: str, command: str) -> str | None:
-    """Why the clock the mutation ``command`` changes is never read, or None: a ROM's
-    (``$mem_v2``'s) read clock where every read port is asynchronous (``RD_CLK_ENABLE`` all 0:
-    Yosys's cell reads the port's clock only for a clocked port), its write clock where it has
-    no write port."""
+def unread_port(il: str, command: str) -> str | None:
+    """Why the port of a memory the mutation ``command`` changes is never read, or None: a
+    ROM's (``$mem_v2``'s) read clock, enable or resets where every read port is asynchronous
+    (``RD_CLK_ENABLE`` all 0: Yosys's cell reads them only for a clocked port, and requires
+    the enable 1 and the resets 0), its write clock where it has no write port."""
     port, cell = mutate_field(command, "port"), mutate_field(command, "cell")
     found = re.search(rf"^\s*cell \$mem_v2 \\{re.escape(cell)}\n(.*?)^\s*end$", il, re.M | re.S)
     if found is None:
         return None
     params = dict(re.findall(r"^\s*parameter \\(\w+) (\S+)$", found.group(1), re.M))
-    if port == "RD_CLK" and re.fullmatch(r"\d+'0+", params.get("RD_CLK_ENABLE", "")):
-        return (
-            "the ROM's read ports are asynchronous (RD_CLK_ENABLE = 0): the cell never reads RD_CLK"
-        )
+    if port in ASYNC_UNREAD and re.fullmatch(r"\d+'0+", params.get("RD_CLK_ENABLE", "")):
+        why = "the ROM's read ports are asynchronous (RD_CLK_ENABLE = 0)"
+        return f"{why}: the cell never reads {port}"
     if port == "WR_CLK" and params.get("WR_PORTS") == "0":
         return "the memory has no write port: the cell never reads WR_CLK"
     return None
+
+
+def unbuildable(il: str, command: str) -> bool:
+    """The mutation ``command`` drives a port of an asynchronous read port that Yosys requires
+    to be constant (``ASYNC_UNREAD`` but the clock): no netlist can hold it, and the cell never
+    reads the port (``unread_port``), so the mutant is the original."""
+    return mutate_field(command, "port") != "RD_CLK" and (
+        mutate_field(command, "port") in ASYNC_UNREAD and unread_port(il, command) is not None
+    )
 
 
 _verdict_lock = threading.Lock()
@@ -835,10 +848,13 @@ def equivalence(
     seconds: what pdr does not find by itself (each stage's registers equal in the two copies
     while its valid bit is set).  ``earlier`` = False: the proofs from reset alone (the
     others already failed on it).  The method's text, or None if none proves it."""
+    unread = unread_port(design_il.read_text(), command)
+    if unread is not None:
+        return unread
     if mutate_field(command, "port") in CLOCK_PORTS:
         # SAT steps every flip-flop on one clock: a clock mutation is out of its reach, unless
-        # the cell never reads that clock
-        return unread_clock(design_il.read_text(), command)
+        # the cell never reads that clock (above)
+        return None
     folder.mkdir(parents=True, exist_ok=True)
     original = os.path.relpath(design_il, folder)  # the WebAssembly Yosys: relative paths
     run_yosys(

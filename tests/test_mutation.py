@@ -21,17 +21,21 @@ from __future__ import annotations
 
 import hashlib
 import json
+import math
 import os
+import re
 from pathlib import Path
 
 import pytest
 
+from model.units.brdf import FixedConfig
 from sim import (
     mutation,
     mutation_checks,
     mutation_invariants,
     mutation_proof,
     mutation_report,
+    mutation_stages,
     units,
     vector_sets,
 )
@@ -50,9 +54,17 @@ def _record() -> dict:
     return json.loads(mutation.RECORD.read_text())
 
 
-# the specular unit's and the core's lists run whole in the slow tier (their netlists take
-# minutes to build): a sample of them there would repeat a part of that
-@pytest.mark.parametrize("design", ["divider_shift", "gouraud_segment"])
+# The units' and the core's lists run whole in the slow tier (the specular unit's and the
+# core's netlists take minutes to build: a sample of them there would repeat a part of that).
+# The BRDF unit's five lists (a design per form) run whole in make mutants only: through
+# every check, their survivors' 4M-cycle soaks among them, they take about 15 minutes, more than
+# the 20 minutes CI has for everything leave; each form's netlist builds in seconds, so its
+# sample runs here.
+WHOLE = ["divider_shift", "gouraud_segment", "specular_unit", "shading_core"]
+BRDF_DESIGNS = [name for name, d in mutation.DESIGNS.items() if d.top == "brdf_unit"]
+
+
+@pytest.mark.parametrize("design", ["divider_shift", "gouraud_segment", *BRDF_DESIGNS])
 def test_sampled_mutants_are_killed(design: str) -> None:
     rec = _record()["designs"][design]
     ids = mutation.quick_sample(rec, SAMPLE)
@@ -77,7 +89,10 @@ def test_the_record_is_current(name: str) -> None:
     """docs/mutants.json's record of the design was made from the netlist its sources, ROM
     images and parameters prepare to now, and so from the same list (remake it: make
     mutants)."""
-    rec = _record()["designs"][name]
+    designs = _record()["designs"]
+    if name not in designs:
+        pytest.fail(f"docs/mutants.json has no record of {name}: make mutants")
+    rec = designs[name]
     src = BUILD / "current" / name
     digest = mutation.prepare_list(mutation.DESIGNS[name], src)
     commands = [ln.strip() for ln in (src / "mutations.txt").read_text().splitlines() if ln.strip()]
@@ -104,14 +119,21 @@ def test_the_docs_table_is_the_record_s() -> None:
     assert mutation_report.listing(_record()) in text
 
 
-@pytest.mark.parametrize("name", list(mutation.DESIGNS))
+def test_every_design_runs_whole_in_the_slow_tier_or_make_mutants() -> None:
+    assert sorted(WHOLE + BRDF_DESIGNS) == sorted(mutation.DESIGNS)
+
+
+@pytest.mark.parametrize("name", WHOLE)
 def test_the_whole_list_gives_the_record_s_figures(name: str) -> None:
     """Every mutant of the design's list that the record does not prove equivalent through the
     checks (make mutants without the proofs, which the record holds; a proven one cannot fail
     a check, and running it through all of them, the 4M-cycle soak last, is most of the
     time): each killed by the check the record names, the rest exactly the record's
     survivors."""
-    rec = _record()["designs"][name]
+    designs = _record()["designs"]
+    if name not in designs:
+        pytest.fail(f"docs/mutants.json has no record of {name}: make mutants")
+    rec = designs[name]
     proven = {o["id"] for o in rec["equivalent"]}
     ids = [i for i in range(1, rec["mutants"] + 1) if i not in proven]
     report = mutation.run_design(mutation.DESIGNS[name], ids, jobs=2, out=BUILD, prove=False)
@@ -346,6 +368,51 @@ def test_the_stage_invariants_prove_a_survivor_and_find_a_killed_mutant_s_counte
     assert _fourth(specular_list, CUT_KILLED, tmp_path / "killed", stages) == "failed"
 
 
+def test_the_stages_found_in_a_netlist_are_the_specular_unit_s_own(
+    specular_list: mutation.Netlist,
+) -> None:
+    """The stage analysis (sim/mutation_stages.py, which gives the BRDF unit's stage
+    invariants) finds in the specular unit's netlist the stages its hand-written list names
+    (``SPECULAR_STAGES``), register for register: its ROM-12 word ``rom12_q`` is the ROM's read
+    register ``u_rom12.q_a_reg``, each whole register one bit range."""
+
+    def by_stage(invariants: tuple[str, ...]) -> list[set[str]]:
+        return [
+            {
+                re.sub(r"\[[\d:]+\]$", "", w)
+                for w in re.findall(r"gold:([\w.]+(?:\[[\d:]+\])?) ==", i)
+            }
+            for i in invariants
+        ]
+
+    il = specular_list.design_il.read_text()
+    found = by_stage(mutation_stages.staged_invariants(il, "specular_unit", "acc_reg", "v_reg"))
+    hand = by_stage(mutation_invariants.SPECULAR_STAGES)
+    hand = [{"u_rom12.q_a_reg" if r == "rom12_q" else r for r in regs} for regs in hand]
+    assert found == hand
+
+
+def test_an_asynchronous_rom_port_s_reset_is_unbuildable_and_never_read() -> None:
+    """The cosine-quadratic list holds a mutation of the angle ROM's asynchronous read port's
+    reset (RD_ARST), which Yosys requires to be 0: it cannot go into a netlist, and the cell
+    never reads it, so the proofs list it as equivalent by the cell's definition.  Its address
+    is read: the same mutation of RD_ADDR is neither."""
+    net = mutation.prepare(mutation.DESIGNS["brdf_unit_cosine_quadratic"], BUILD)
+    il = net.design_il.read_text()
+    held = [
+        m.command
+        for m in net.mutations
+        if mutation_proof.mutate_field(m.command, "port") in ("RD_EN", "RD_ARST", "RD_SRST")
+    ]
+    assert held, "the list has no mutation of a read port's enable or reset"
+    for command in held:
+        assert mutation_proof.unbuildable(il, command), command
+        assert "never reads" in mutation_proof.unread_port(il, command), command
+        address = re.sub(r"-port \S+", "-port RD_ADDR", command)
+        assert not mutation_proof.unbuildable(il, address)
+        assert mutation_proof.unread_port(il, address) is None
+
+
 def test_an_invariant_is_proven_not_assumed(
     specular_list: mutation.Netlist, tmp_path: Path
 ) -> None:
@@ -481,3 +548,90 @@ def test_table_highlight_spans_light_every_table() -> None:
         for r in (core.unpack(fmt.layout(), w) for w in words)
     )
     assert all(70 <= tables[j] <= 130 for j in range(len(ranges))), tables
+
+
+@pytest.mark.parametrize("name", BRDF_DESIGNS)
+def test_each_brdf_form_is_a_design_of_its_own(name: str) -> None:
+    """The BRDF unit is one design per form with RTL, built with its committed set's
+    parameters: its list mutates its own form's datapath (the piecewise form's holds the
+    cubic's, which it instantiates) and no other form's."""
+    from model.units import brdf
+
+    assert sorted(BRDF_DESIGNS) == sorted(f"brdf_unit_{f}" for f in brdf.RTL_FORMS)
+    design = mutation.DESIGNS[name]
+    form = name.removeprefix("brdf_unit_")
+    assert design.vector_set == f"brdf_{form}"
+    assert mutation.set_parameters(design)["FORM"] == f'"{form}"'
+    net = mutation.prepare(design, BUILD)
+    files = {m.src.split(":")[0] for m in net.mutations}
+    assert f"brdf_{form}" in files, files
+    others = {f"brdf_{f}" for f in brdf.RTL_FORMS if f != form}
+    if form == "piecewise":
+        others.discard("brdf_cubic")
+    assert not files & others, files
+
+
+def _address(angle: float, cfg: FixedConfig) -> float:
+    """The angle-table address of ``angle`` (radians)."""
+    return angle / (math.pi / 2) * (1 << cfg.cos_addr_bits)
+
+
+@pytest.mark.parametrize("n", [1, 2, 7, 100, 1000])
+def test_brdf_marks_are_the_forms_branch_points(n: int) -> None:
+    """``brdf_marks`` holds, within two table addresses, where each form's datapath changes
+    branch, found here from the float forms: the log2 form's x = n (-log2 cos) at 1 and 3
+    (cos^n = 1/2 and 1/8: its octave boundary and its zero), the cubic's and the piecewise
+    form's tau = 0 at the match point s = 0.5^(1/n) (``cubic_coefficients``; the piecewise
+    form's junction), the quadratic's zero 1 - a w = 0 and the cosine-quadratic's
+    1 - (7n/16) w = 0 (where w = 1 - cos <= 1)."""
+    from model.units import brdf
+
+    def near(form: str, cos: float) -> None:
+        cfg = brdf.UNIT_CONFIGS[form]
+        want = _address(math.acos(cos), cfg)
+        _, marks = mutation_checks.brdf_marks(cfg, n)
+        assert any(abs(m - want) <= 2 for m in marks), (form, n, want, marks)
+
+    near("log2", 0.5 ** (1 / n))
+    near("log2", 0.125 ** (1 / n))
+    near("cubic", brdf.cubic_coefficients(n).cos_t)
+    near("piecewise", brdf.cubic_coefficients(n).cos_t)
+    a = brdf.quadratic_coefficients(n).a
+    if a > 1:
+        near("quadratic", 1 - 1 / a)
+    if 7 * n >= 16:
+        near("cosine_quadratic", 1 - 16 / (7 * n))
+
+
+@pytest.mark.parametrize("form", ["cosine_quadratic", "quadratic", "cubic", "log2", "piecewise"])
+def test_brdf_highlight_lines_stay_lit_or_cross_a_mark(form: str) -> None:
+    """The BRDF unit's highlight lines (200 here): each job written and started, C in the top
+    quarter, n in 1..1000; every other line inside the lit angles of its n (nearly every
+    pixel's output word at least 1/256 of full scale: the cubic's dips near pi/2), the others
+    each across one of its n's marks (a rounding point of the angle table's address within
+    the line's |angle|s)."""
+    import numpy as np
+
+    from model.units import brdf
+
+    cfg = brdf.UNIT_CONFIGS[form]
+    rows = mutation_checks.brdf_highlight_inputs(cfg, 200)
+    jobs = [r for r in rows if r["n_we"]]
+    assert len(jobs) == 200 and sum(r["start"] for r in rows) == 200
+    c_hi = (1 << (cfg.angle.c_int_bits + cfg.angle.c_frac_bits)) - 1
+    shift = cfg.addr_shift
+    lit = total = 0
+    for k, r in enumerate(jobs):
+        n = r["n_in"]
+        assert 1 <= n <= 1000 and r["c_in"] >= c_hi - c_hi // 4
+        z = r["z0_in"] + r["dz_in"] * np.arange(r["len_in"] + 1, dtype=np.int64)
+        if k % 2 == 0:
+            words = brdf.evaluate(cfg, z, n)
+            lit += int((words >= 1 << (cfg.out_bits - 8)).sum())
+            total += z.size
+        else:
+            _, marks = mutation_checks.brdf_marks(cfg, n)
+            mag = np.abs(z)
+            points = [(m << shift) - (1 << shift) // 2 for m in marks]
+            assert any(mag.min() <= p <= mag.max() for p in points), r
+    assert lit >= 0.97 * total, f"{total - lit} of {total} pixels dark"
