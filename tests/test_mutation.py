@@ -57,9 +57,9 @@ def _record() -> dict:
 # The units' and the core's lists run whole in the slow tier (the specular unit's and the
 # core's netlists take minutes to build: a sample of them there would repeat a part of that).
 # The BRDF unit's five lists (a design per form) run whole in make mutants only: through
-# every check, their survivors' 4M-cycle soaks among them, they take about 15 minutes, more than
-# the 20 minutes CI has for everything leave; each form's netlist builds in seconds, so its
-# sample runs here.
+# every check, their survivors' 4M-cycle soaks among them, their first runs took 18.5
+# minutes, more than the 20 minutes CI has for everything leave; each form's netlist builds in
+# seconds, so its sample runs here.
 WHOLE = ["divider_shift", "gouraud_segment", "specular_unit", "shading_core"]
 BRDF_DESIGNS = [name for name, d in mutation.DESIGNS.items() if d.top == "brdf_unit"]
 
