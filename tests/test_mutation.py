@@ -32,6 +32,7 @@ from model.units.brdf import FixedConfig
 from sim import (
     mutation,
     mutation_checks,
+    mutation_cuts,
     mutation_invariants,
     mutation_proof,
     mutation_report,
@@ -313,7 +314,7 @@ def test_a_rom_port_at_a_constant_address_reads_its_word(tmp_path: Path) -> None
     mutation_proof.run_yosys(
         "read_verilog rom.v\nprep -top rom\nmemory_collect\nwrite_rtlil rom.il\n", tmp_path, "rom"
     )
-    cut = mutation_proof.cut_roms((tmp_path / "rom.il").read_text())
+    cut = mutation_cuts.cut_roms((tmp_path / "rom.il").read_text())
     assert "$mem_v2" not in cut
     (data,) = [ln for ln in cut.splitlines() if "connect" in ln and "mutation_rom0_data" in ln]
     # RD_DATA is { q0 q } (port 1, at address 0, then port 0): q0 the word 0x5a, q the input
@@ -473,8 +474,8 @@ def test_an_invariant_reads_a_memory_word_by_its_escaped_name() -> None:
         "gold:\\u_fifo.mem[3] == gate:\\u_fifo.mem[3] ",
         "!gold:v_reg[2] || gold:side_reg[149:100] == gate:side_reg[149:100]",
     )
-    assert mutation_proof.invariant_wires(given) == ["u_fifo.mem[3]", "v_reg", "side_reg"]
-    assert [mutation_proof.invariant_verilog(i) for i in given] == [
+    assert mutation_cuts.invariant_wires(given) == ["u_fifo.mem[3]", "v_reg", "side_reg"]
+    assert [mutation_cuts.invariant_verilog(i) for i in given] == [
         "gold_mutation_probe_u_fifo__mem_3_ == gate_mutation_probe_u_fifo__mem_3_ ",
         "!gold_mutation_probe_v_reg[2] || gold_mutation_probe_side_reg[149:100]"
         " == gate_mutation_probe_side_reg[149:100]",
