@@ -123,10 +123,11 @@ _CORE_STAGES, _CORE_SIDE, _CORE_FIFO = 10, 50, 32
 CORE_ONE_PIXEL_SPAN = (
     "!gold:act_reg || (gold:gacc_reg == gate:gacc_reg"
     " && (gold:cnt_reg == 11'd0 || gold:di_reg == gate:di_reg))",
-    *(
-        f"!gold:v_reg[{s}] || gold:side_reg[{(s + 1) * _CORE_SIDE - 1}:{s * _CORE_SIDE}]"
-        f" == gate:side_reg[{(s + 1) * _CORE_SIDE - 1}:{s * _CORE_SIDE}]"
-        for s in range(_CORE_STAGES)
+    *_staged(
+        [
+            (f"v_reg[{s}]", (f"side_reg[{(s + 1) * _CORE_SIDE - 1}:{s * _CORE_SIDE}]",))
+            for s in range(_CORE_STAGES)
+        ]
     ),
     *(f"gold:\\u_fifo.mem[{w}] == gate:\\u_fifo.mem[{w}] " for w in range(_CORE_FIFO)),
     "gold:u_fifo.out_reg == gate:u_fifo.out_reg",
