@@ -153,11 +153,6 @@ SLOW: dict[str, str] = {
         "the core's build and runs take minutes); quick: test_sampled_mutants_are_killed, 12 a "
         "design"
     ),
-    "tests/test_mutation.py::test_the_clamp_invariants_prove_gouraud_174": (
-        "pdr proves the Gouraud mutant 174 with its invariants in about 140 s; quick: "
-        "test_the_stage_invariants_prove_a_survivor_and_find_a_killed_mutant_s_counterexample "
-        "(the same proof with the specular unit's invariants, a few seconds)"
-    ),
     "tests/test_mutation.py::"
     "test_the_one_pixel_span_invariants_find_a_killed_mutant_s_counterexample": (
         "the core's miter with the same invariants (a minute or more); quick: "
