@@ -23,12 +23,13 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
+from numba import njit
 
 from model.render import core
 from model.render.pipeline import METHODS
 from model.units import brdf
 from model.units.brdf import FixedConfig
-from model.units.specular import SpecularConfig
+from model.units.specular import N_MAX, SpecularConfig
 from sim import core_run, soak_file, soak_predict, soak_stimulus, units, vector_run, vector_sets
 from sim.protocol import UnitSpec
 
@@ -125,6 +126,21 @@ def _inputs_check(
     return Check(name, out, 0, writer=write, spec=units.spec(cfg))
 
 
+def _stimulus_check(
+    cfg: units.UnitConfig, name: str,
+    stimulus: Callable[[units.UnitConfig], soak_stimulus.Stimulus], folder: Path,
+) -> Check:  # fmt: skip
+    """As ``_inputs_check``, the stimulus built whole (``stimulus(cfg)``: millions of cycles)."""
+    out = folder / "checks" / name.split(":")[0].replace(" ", "_") / "vectors.bin"
+
+    def write() -> None:
+        out.parent.mkdir(parents=True, exist_ok=True)
+        stim = stimulus(cfg)
+        soak_file.write_vector_file(cfg, stim, soak_predict.predict(cfg, stim), out)
+
+    return Check(name, out, 0, writer=write, spec=units.spec(cfg))
+
+
 def unit_checks(vector_set: str, folder: Path) -> list[Check]:
     """The committed set, then the longer soaks of the same configuration, the directed run,
     the operand bits and the long soak (each written on first use into ``folder``)."""
@@ -143,7 +159,11 @@ def unit_checks(vector_set: str, folder: Path) -> list[Check]:
             else []
         ),
         *(
-            [_inputs_check(cfg, BRDF_HIGHLIGHT, brdf_highlight_inputs, folder)]
+            [
+                _inputs_check(cfg, BRDF_HIGHLIGHT, brdf_highlight_inputs, folder),
+                _inputs_check(cfg, BRDF_FAR, brdf_far_inputs, folder),
+                _stimulus_check(cfg, BRDF_EXHAUSTIVE, brdf_exhaustive_stimulus, folder),
+            ]
             if isinstance(cfg, FixedConfig)
             else []
         ),
@@ -371,6 +391,157 @@ def brdf_highlight_inputs(
             yield dict(c=c, n=n, len=length, z0=z0, dz=dz)
 
     return line_rows(spec, jobs(), lambda job: job["len"] + latency + 4)
+
+
+# The accumulator's bits above |zeta|'s range: each alone at one pixel of a line (of either sign)
+BRDF_FAR = (
+    "far lines: lines whose accumulator reaches each of its bits above the angle's range alone, "
+    "of either sign, at an angle inside every n's highlight"
+)
+
+
+def brdf_far_inputs(cfg: units.UnitConfig) -> list[dict[str, int]]:
+    """Reset, then for each bit b of the BRDF unit's accumulator from the top of z0's range to
+    the one below its sign, and each sign, a line that reaches +-(2^b + t) at its pixel
+    2^(LEN_WIDTH - 1), t one angle-table address: the accumulator is far beyond pi/2 there
+    (every form's word 0), but a "too big" test that misses bit b reads it as t, inside the
+    highlight of every n (the word near full scale).  A random soak's accumulator stays near
+    z0's range: its lines are short or their steps small."""
+    assert isinstance(cfg, FixedConfig)
+    spec = units.spec(cfg)
+    ranges = {p.name: soak_stimulus.port_range(p) for p in spec.operands}
+    z_width = spec.operand("z0").width
+    len_width = spec.operand("len").width
+    dz_hi = ranges["dz"][1]
+    pixel = 1 << (len_width - 1)
+    t = 1 << cfg.addr_shift
+    latency = brdf.fill_latency(cfg)
+
+    def jobs() -> Iterator[dict[str, int]]:
+        for b in range(z_width - 2, z_width + len_width - 1):
+            dz = min(1 << max(0, b - (len_width - 1)), dz_hi)
+            z0 = (1 << b) + t - pixel * dz
+            for sign in (1, -1):
+                yield dict(c=ranges["c"][1], n=1 + (b % 7), len=pixel + 1, z0=sign * z0,
+                           dz=sign * dz)  # fmt: skip
+
+    return line_rows(spec, jobs(), lambda job: job["len"] + latency + 4)
+
+
+BRDF_EXHAUSTIVE = (
+    "every n and angle-table address: each n's lines across every address to pi/2 and beyond "
+    "at the top C, then each address whose output word some C shows changed by one, alone, "
+    "at a C whose result the word one more changes and at one whose result the word one less "
+    "does"
+)
+
+
+# The forms whose exhaustive check has the one-pixel lines: each costs the unit's latency
+# (busy for the fill latency + l cycles), 11.9M to 25M cycles a form; the piecewise form's
+# 2.4 million lit (n, address) pairs, 31 cycles each, would be 160M cycles, so it has only
+# the top C's lines (4.2M)
+EXHAUSTIVE_PIXELS = ("cosine_quadratic", "quadratic", "cubic", "log2")
+
+
+@njit(cache=True)
+def _sensitive_c(words: int, c_hi: int, shift: int, out_max: int, up, down) -> None:
+    """For each output word f < ``words``: ``up[f]``, the largest C at which the result of
+    f + 1 (and so of every larger word) differs from f's, ``down[f]`` the largest at which
+    f - 1's (and every smaller word's) does; 0 where no C does.  The result is
+    round(C f / 2^shift) (add half, slice), saturated to ``out_max``, as ``scale_kernel``."""
+    half = 1 << (shift - 1)
+    for f in range(words):
+        up[f] = 0
+        down[f] = 0
+        for c in range(c_hi, 0, -1):
+            lo = (c * f + half) >> shift
+            if up[f] == 0 and f + 1 < words and lo < out_max and (c * f + c + half) >> shift > lo:
+                up[f] = c
+            if down[f] == 0 and f > 0 and lo <= out_max and (c * f - c + half) >> shift < lo:
+                down[f] = c
+            if (up[f] != 0 or f + 1 == words) and (down[f] != 0 or f == 0):
+                break
+
+
+@functools.cache
+def sensitive_c(cfg: FixedConfig) -> tuple[np.ndarray, np.ndarray]:
+    """(up, down) of ``_sensitive_c`` for the BRDF unit ``cfg``'s output words."""
+    a = cfg.angle
+    words = 1 << cfg.out_bits
+    up, down = np.zeros(words, np.int64), np.zeros(words, np.int64)
+    _sensitive_c(words, a.c_format.hi, a.c_frac_bits + cfg.out_bits, a.out_max, up, down)
+    return up, down
+
+
+def brdf_exhaustive_jobs(cfg: FixedConfig, ns: Sequence[int] | None = None) -> np.ndarray:
+    """The lines of the exhaustive check for each n of ``ns`` (every n of the unit, 1 to
+    N_MAX, by default), one row each (c, n, len, z0, dz): first the n's lines from address 0,
+    a table address a pixel, to two past pi/2 (the word there is the cos = 0 word, whatever
+    the address), C at its top; then, for each address a whose word f some C shows changed
+    (``sensitive_c``) and that is not full scale, a one-pixel line at a with C = up[f] and
+    one with C = down[f] (the forms of ``EXHAUSTIVE_PIXELS``).  A mutant that changes the
+    word of any n at any such address then changes a result: every form's datapath is a
+    function of (n, address), pixel by pixel.  A word below about 2^(shift - C's bits) shows
+    no change of one at any C (128 at the default widths: C f rounds to 0 whatever C);
+    a full-scale word's fall shows at the top C from about 2^(shift - C's bits) down."""
+    a_bits, shift = cfg.cos_addr_bits, cfg.addr_shift
+    c_hi = cfg.angle.c_format.hi
+    len_hi = (1 << cfg.angle.len_width) - 1
+    up, down = sensitive_c(cfg)
+    full = (1 << cfg.out_bits) - 1
+    addrs = np.arange((1 << a_bits) + 1, dtype=np.int64)
+    last = (1 << a_bits) + 2
+    rows: list[np.ndarray] = []
+    for n in ns if ns is not None else range(1, N_MAX + 1):
+        first = 0
+        while first <= last:
+            length = min(len_hi, last - first)
+            rows.append(np.array([[c_hi, n, length, first << shift, 1 << shift]], np.int64))
+            first += length + 1
+        if cfg.form not in EXHAUSTIVE_PIXELS:
+            continue
+        word = brdf.evaluate(cfg, addrs << shift, n)
+        for table in (up, down):
+            c = np.where(word < full, table[word], 0)
+            at = np.nonzero(c)[0]
+            block = np.zeros((at.size, 5), np.int64)
+            block[:, 0], block[:, 1], block[:, 3] = c[at], n, addrs[at] << shift
+            rows.append(block)
+    return np.concatenate(rows)
+
+
+def back_to_back(spec: UnitSpec, jobs: np.ndarray, busy: np.ndarray) -> soak_stimulus.Stimulus:
+    """Three reset cycles, a cycle writing the first job's operands (``jobs``: a row per job,
+    a column per operand in ``spec``'s order), then per job its start, with the next job's
+    operands written in the same cycle (kept for the next line), and ``busy[j]`` + 1 idle
+    cycles: the next start comes in the first cycle the unit is free, or one after; then a
+    tail to the last result."""
+    k, ops = len(jobs), len(spec.operands)
+    span = busy.astype(np.int64) + 2  # the start and the idle cycles after it
+    starts = 4 + np.concatenate(([0], np.cumsum(span)[:-1]))
+    total = 4 + int(span.sum()) + 8
+    rst_n = np.ones(total, np.uint8)
+    rst_n[:3] = 0
+    start = np.zeros(total, np.uint8)
+    start[starts] = 1
+    we = np.zeros((total, ops), np.uint8)
+    value = np.zeros((total, ops), np.int64)
+    we[3], value[3] = 1, jobs[0]
+    we[starts[:-1]], value[starts[:-1]] = 1, jobs[1:]
+    assert k == 0 or starts[-1] + span[-1] + 8 == total
+    return soak_stimulus.Stimulus(tuple(p.name for p in spec.operands), rst_n, start, we, value)
+
+
+def brdf_exhaustive_stimulus(
+    cfg: units.UnitConfig, ns: Sequence[int] | None = None
+) -> soak_stimulus.Stimulus:
+    """The exhaustive check's lines (``brdf_exhaustive_jobs``) back to back."""
+    assert isinstance(cfg, FixedConfig)
+    spec = units.spec(cfg)
+    names = [p.name for p in spec.operands]
+    order = [("c", "n", "len", "z0", "dz").index(name) for name in names]
+    jobs = brdf_exhaustive_jobs(cfg, ns)
+    return back_to_back(spec, jobs[:, order], brdf.cycles(jobs[:, 2], cfg))
 
 
 def operand_bit_jobs(

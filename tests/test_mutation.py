@@ -634,3 +634,101 @@ def test_brdf_highlight_lines_stay_lit_or_cross_a_mark(form: str) -> None:
             points = [(m << shift) - (1 << shift) // 2 for m in marks]
             assert any(mag.min() <= p <= mag.max() for p in points), r
     assert lit >= 0.97 * total, f"{total - lit} of {total} pixels dark"
+
+
+def test_sensitive_c_shows_every_change_of_a_word() -> None:
+    """``sensitive_c``'s C for a word f makes the model's result (``scale_kernel``: C f
+    rounded and saturated) of f + 1 (up) or f - 1 (down) differ from f's, for 3000 words
+    drawn at random and the ends; where it gives none, no C in C's range does (brute force
+    over every C, the model's rounding)."""
+    import numpy as np
+
+    from model.units import brdf
+
+    cfg = brdf.UNIT_CONFIGS["quadratic"]
+    a = cfg.angle
+    shift, words = a.c_frac_bits + cfg.out_bits, 1 << cfg.out_bits
+    up, down = mutation_checks.sensitive_c(cfg)
+    every_c = np.arange(a.c_format.hi + 1, dtype=np.int64)
+
+    def results(f: int) -> np.ndarray:
+        out = np.empty(every_c.size, np.int64)
+        for k, c in enumerate(every_c):
+            one = np.empty(1, np.int64)
+            brdf.unit.scale_kernel(np.array([f], np.int64), int(c), shift, a.out_max, one)
+            out[k] = one[0]
+        return out
+
+    rng = np.random.default_rng(3)
+    for f in [*rng.integers(1, words - 1, 3000), 1, words - 2]:
+        for table, other in ((up, f + 1), (down, f - 1)):
+            c = int(table[f])
+            if c:
+                got = np.empty(2, np.int64)
+                brdf.unit.scale_kernel(np.array([f, other]), c, shift, a.out_max, got)
+                assert got[0] != got[1], (f, other, c)
+    first = int(np.nonzero(up)[0][0])
+    # below the first word with an up, no C shows a change of one (brute force, the model)
+    assert first > 1 and np.array_equal(results(first - 1), results(first))
+    assert not np.array_equal(results(first), results(first + 1))
+    assert up[words - 1] == 0 and down[0] == 0
+
+
+@pytest.mark.parametrize("form", ["quadratic", "piecewise"])
+def test_the_exhaustive_check_starts_every_line_and_visits_every_address(form: str) -> None:
+    """The exhaustive check for three n: every line back to back is started (the model's
+    valid results count every line's pixels), each n's top-C lines pass every table address
+    and pi/2, and a form of ``EXHAUSTIVE_PIXELS`` has two one-pixel lines at each address
+    whose word some C shows changed (not full scale): the piecewise form none."""
+    import numpy as np
+
+    from model.units import brdf
+    from sim import soak_predict
+
+    cfg = brdf.UNIT_CONFIGS[form]
+    ns = [1, 2, 500]
+    jobs = mutation_checks.brdf_exhaustive_jobs(cfg, ns)
+    stim = mutation_checks.brdf_exhaustive_stimulus(cfg, ns)
+    assert int(stim.start.sum()) == len(jobs)
+    assert int(np.asarray(soak_predict.predict(cfg, stim).valid).sum()) == int(
+        (jobs[:, 2] + 1).sum()
+    )
+    c_hi, shift = cfg.angle.c_format.hi, cfg.addr_shift
+    up, down = mutation_checks.sensitive_c(cfg)
+    addrs = np.arange((1 << cfg.cos_addr_bits) + 1, dtype=np.int64)
+    for n in ns:
+        mine = jobs[jobs[:, 1] == n]
+        lines = mine[mine[:, 2] > 0]
+        assert (lines[:, 0] == c_hi).all() and (lines[:, 4] == 1 << shift).all()
+        seen = np.concatenate([(z0 >> shift) + np.arange(ln + 1) for _, _, ln, z0, _ in lines])
+        assert set(addrs) <= set(seen.tolist())
+        word = brdf.evaluate(cfg, addrs << shift, n)
+        want = {(int(a), int(t[w])) for t in (up, down) for a, w in zip(addrs, word, strict=True)
+                if t[w] and w < (1 << cfg.out_bits) - 1}  # fmt: skip
+        pixels = {(int(z0 >> shift), int(c)) for c, _, ln, z0, dz in mine if ln == 0 and dz == 0}
+        assert pixels == (want if form in mutation_checks.EXHAUSTIVE_PIXELS else set())
+
+
+def test_far_lines_reach_each_accumulator_bit_alone() -> None:
+    """Each far line's pixel 2^(LEN_WIDTH - 1) has the accumulator at +-(2^b + one address)
+    for every bit b from z0's top to the one below the accumulator's sign, the operands in
+    their ranges; the model gives that pixel the word beyond pi/2 (the same as pi/2's)."""
+    from model.units import brdf
+
+    cfg = brdf.UNIT_CONFIGS["cosine_quadratic"]
+    spec = units.spec(cfg)
+    rows = mutation_checks.brdf_far_inputs(cfg)
+    jobs = [r for r in rows if r["n_we"]]
+    z_width, len_width = spec.operand("z0").width, spec.operand("len").width
+    pixel, t = 1 << (len_width - 1), 1 << cfg.addr_shift
+    reached = set()
+    for r in jobs:
+        assert abs(r["dz_in"]) < 1 << (z_width - 1) and abs(r["z0_in"]) < 1 << (z_width - 1)
+        acc = r["z0_in"] + pixel * r["dz_in"]
+        b = (abs(acc) - t).bit_length() - 1
+        assert abs(acc) == (1 << b) + t and r["len_in"] > pixel
+        reached.add((b, acc > 0))
+        pi_2 = brdf.evaluate(cfg, [1 << (cfg.cos_addr_bits + cfg.addr_shift)], r["n_in"])[0]
+        assert brdf.evaluate(cfg, [acc], r["n_in"])[0] == pi_2
+    bits = range(z_width - 2, z_width + len_width - 1)
+    assert reached == {(b, s) for b in bits for s in (True, False)}
