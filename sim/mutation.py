@@ -410,6 +410,7 @@ def run_design(
                         invariants=mutation_invariants.invariants(
                             design.name, by_id[i].command, design_text
                         ),
+                        stronger=mutation_invariants.stronger(design.name, design_text),
                     ),
                     alive,
                 ),

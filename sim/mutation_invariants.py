@@ -9,7 +9,8 @@ original) and ``gate:<wire>`` (the mutant), by the flattened design's names (dot
 hierarchy), read as each copy's flip-flops show them; a bit select counts from the wire's least
 significant bit as 0, whatever its declared range (the core's ``v_reg[10:1]`` is ``[9:0]``
 here).  ``DESIGN`` holds a design's (or finds them in its netlist: the BRDF unit's stages,
-``_brdf_stages``), given to every mutant of it that the earlier proofs leave; ``MUTANT`` a
+``_brdf_stages``), given to every mutant of it that the earlier proofs leave; ``STRONGER``
+more of a design's, added for one more try where those fail; ``MUTANT`` a
 mutation's own (by its ``selector``: its mode, wire and bits, which a new list of the same RTL
 names alike under another id, where the cell names carry Yosys's running numbers), given
 together with its design's.
@@ -71,6 +72,23 @@ def _brdf_stages(il: str) -> tuple[str, ...]:
 DESIGN: dict[str, tuple[str, ...] | Callable[[str], tuple[str, ...]]] = {
     "specular_unit": SPECULAR_STAGES,
     **{f"brdf_unit_{form}": _brdf_stages for form in brdf.RTL_FORMS},
+}
+
+
+def _brdf_unstaged(il: str) -> tuple[str, ...]:
+    """The BRDF unit's other registers (the operand, run and control registers, the output):
+    the same in the two copies in every cycle (sim/mutation_stages.py
+    ``unstaged_equalities``).  The proof's scorr should find these itself, and for the
+    step-condition mutants (the accumulator stepping once more after a line's last pixel) does
+    not: with them beside the stage invariants pdr proves each in seconds, without them not in
+    15 minutes.  Given after the stage invariants alone fail (a mutant of a control register
+    breaks its own equality)."""
+    return mutation_stages.unstaged_equalities(il, "brdf_unit", "acc_reg", "v_reg")
+
+
+# Invariants added to a design's for one more try where those alone do not prove a mutant
+STRONGER: dict[str, Callable[[str], tuple[str, ...]]] = {
+    f"brdf_unit_{form}": _brdf_unstaged for form in brdf.RTL_FORMS
 }
 
 
@@ -164,3 +182,10 @@ def invariants(design: str, command: str, design_il: str = "") -> tuple[str, ...
     if callable(given):
         given = given(design_il)
     return given + MUTANT.get((design, selector(command)), ())
+
+
+def stronger(design: str, design_il: str = "") -> tuple[str, ...]:
+    """The invariants added to ``invariants``' for the fourth proof's last try (``STRONGER``)
+    of a mutant of ``design`` (``design_il``: its prepared netlist, RTLIL)."""
+    given = STRONGER.get(design)
+    return given(design_il) if given is not None else ()

@@ -22,7 +22,8 @@ The ROM tables are cut out of both designs (``cut_roms``).  Four kinds of proof
   product is the original's where their operands agree, any value where not), then with
   invariants over both copies' wires (sim/mutation_invariants.py, ``probed``) asserted
   alongside the outputs: what pdr does not find through a multiplier, or at all in its time
-  (a stage register equal in the two copies while its valid bit is set).
+  (a stage register equal in the two copies while its valid bit is set), then with a
+  design's stronger set (the BRDF unit's other registers equal in every cycle).
 
 A verdict is kept per folder for the same netlists and script.
 
@@ -541,7 +542,7 @@ def prove_from_reset(
 def equivalence(
     folder: Path, top: str, design_il: Path, command: str, unit: bool, seq: int = 4,
     timeout: float = 90, contract: Contract | None = None, pdr_timeout: float = PDR_TIMEOUT,
-    earlier: bool = True, invariants: tuple[str, ...] = (),
+    earlier: bool = True, invariants: tuple[str, ...] = (), stronger: tuple[str, ...] = (),
 ) -> str | None:  # fmt: skip
     """Prove the design ``design_il`` (RTLIL, module ``top``) with the mutation ``command``
     equal to the original, the ROMs cut (``cut_roms``), in ``folder``: every matched named
@@ -560,8 +561,9 @@ def equivalence(
     products), then with ``invariants`` (Verilog over ``gold:wire`` and ``gate:wire``,
     sim/mutation_invariants.py) asserted alongside the outputs, each try given ``pdr_timeout``
     seconds: what pdr does not find by itself (each stage's registers equal in the two copies
-    while its valid bit is set).  ``earlier`` = False: the proofs from reset alone (the
-    others already failed on it).  The method's text, or None if none proves it."""
+    while its valid bit is set), then with ``stronger`` added (the other registers equal in
+    every cycle).  ``earlier`` = False: the proofs from reset alone (the others already
+    failed on it).  The method's text, or None if none proves it."""
     unread = unread_port(design_il.read_text(), command)
     if unread is not None:
         return unread
@@ -607,6 +609,7 @@ def equivalence(
     # the fourth: the multipliers cut too, then with the invariants asserted alongside
     tries = [()] if product_cuts(gold) else []
     tries += [invariants] if invariants else []
+    tries += [invariants + stronger] if stronger else []
     for given in tries:
         verdict = _prove_from_reset(
             folder, top, gold, gate, contract, pdr_timeout, products=True, invariants=given

@@ -12,7 +12,9 @@ pipeline bit its next value reads is in stage s (``stages``), the first stage's 
 (the accumulator, stage 0).  A bit that reads itself (a register that holds: the run registers,
 the counters, the output register) is no stage's; neither is one that reads bits of two
 stages.  ``staged_invariants`` gives one invariant a stage: while ``v_reg[s]`` is set in the
-original, each of the stage's register bits is the same in the two copies.  A wrong grouping
+original, each of the stage's register bits is the same in the two copies; ``unstaged_equalities``
+one for every other register (the control state, the run registers, the output): the same in
+the two copies in every cycle.  A wrong grouping
 costs nothing but the proof: the invariants are proven with the outputs, never assumed.
 
 Only what the stage analysis needs of RTLIL is read: wires (width, offset), module-level
@@ -208,6 +210,40 @@ def stages(il: str, top: str, first: str) -> dict[Bit, int]:
         level += 1
 
 
+def _ranges(by_wire: dict[str, list[int]]) -> list[str]:
+    """``gold:w[hi:lo] == gate:w[hi:lo]`` for each run of consecutive bits of each wire."""
+    terms = []
+    for wire, bits in sorted(by_wire.items()):
+        bits.sort()
+        runs: list[list[int]] = []
+        for b in bits:
+            if runs and b == runs[-1][1] + 1:
+                runs[-1][1] = b
+            else:
+                runs.append([b, b])
+        for lo, hi in runs:
+            sel = f"[{hi}:{lo}]" if hi > lo else f"[{lo}]"
+            terms.append(f"gold:{wire}{sel} == gate:{wire}{sel}")
+    return terms
+
+
+def unstaged_equalities(il: str, top: str, first: str, valid: str) -> tuple[str, ...]:
+    """One invariant per public register bit range that no stage of ``stages`` (below the
+    valid vector's width) holds: the same in the two copies in every cycle.  scorr (the
+    proof's signal correspondence) is meant to find these, and for the BRDF unit's step
+    condition does not: given, pdr proves those mutants in seconds."""
+    found = stages(il, top, first)
+    net = Netlist(il, top)
+    width = net.wires[f"\\{valid}"][0]
+    staged = {bit for bit, s in found.items() if s < width}
+    rest: dict[str, list[int]] = defaultdict(list)
+    for q_bits, _ in net.flops():
+        for bit in q_bits:
+            if bit is not None and bit[0].startswith("\\") and bit not in staged:
+                rest[bit[0][1:]].append(bit[1])
+    return tuple(_ranges({w: sorted(set(b)) for w, b in rest.items()}))
+
+
 def staged_invariants(il: str, top: str, first: str, valid: str) -> tuple[str, ...]:
     """One invariant per stage s found (``stages``): ``!gold:<valid>[s] || (...)``, each bit
     range of a register of the stage the same in the two copies (``gold:w[hi:lo] ==
@@ -220,17 +256,6 @@ def staged_invariants(il: str, top: str, first: str, valid: str) -> tuple[str, .
             by_stage[s][wire[1:]].append(b)
     out = []
     for s in sorted(by_stage):
-        terms = []
-        for wire, bits in sorted(by_stage[s].items()):
-            bits.sort()
-            runs: list[list[int]] = []
-            for b in bits:
-                if runs and b == runs[-1][1] + 1:
-                    runs[-1][1] = b
-                else:
-                    runs.append([b, b])
-            for lo, hi in runs:
-                sel = f"[{hi}:{lo}]" if hi > lo else f"[{lo}]"
-                terms.append(f"gold:{wire}{sel} == gate:{wire}{sel}")
+        terms = _ranges(by_stage[s])
         out.append(f"!gold:{valid}[{s}] || (" + " && ".join(terms) + ")")
     return tuple(out)

@@ -393,6 +393,34 @@ def test_the_stages_found_in_a_netlist_are_the_specular_unit_s_own(
     assert found == hand
 
 
+@pytest.fixture(scope="module")
+def log2_list() -> mutation.Netlist:
+    return mutation.prepare(mutation.DESIGNS["brdf_unit_log2"], BUILD)
+
+
+# The BRDF unit's log2 form: its step condition tied true (64: the accumulator steps once more
+# after a line's last pixel, a survivor of the stage invariants alone) and a bit of its step
+# tied to 0 (43, which its committed set kills)
+STEP_PROVEN, STEP_KILLED = 64, 43
+
+
+def test_the_unstaged_equalities_prove_a_step_condition_mutant_and_find_a_killed_one(
+    log2_list: mutation.Netlist, tmp_path: Path
+) -> None:
+    """With the stage invariants and the other registers' equalities (``stronger``), pdr
+    proves 64 (in seconds; the stage invariants alone left it undecided in 15 minutes), and
+    the same invariants give 43 a counterexample."""
+    il = log2_list.design_il.read_text()
+    rec = _record()["designs"]["brdf_unit_log2"]
+    assert str(STEP_KILLED) in rec["killed_by"]
+    for mutant, verdict in ((STEP_PROVEN, "proven"), (STEP_KILLED, "failed")):
+        command = log2_list.mutations[mutant - 1].command
+        given = mutation_invariants.invariants("brdf_unit_log2", command, il)
+        more = mutation_invariants.stronger("brdf_unit_log2", il)
+        assert "gold:v_reg[13:0] == gate:v_reg[13:0]" in more and not set(more) & set(given)
+        assert _fourth(log2_list, mutant, tmp_path / str(mutant), given + more) == verdict
+
+
 def test_an_asynchronous_rom_port_s_reset_is_unbuildable_and_never_read() -> None:
     """The cosine-quadratic list holds a mutation of the angle ROM's asynchronous read port's
     reset (RD_ARST), which Yosys requires to be 0: it cannot go into a netlist, and the cell
