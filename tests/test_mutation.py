@@ -696,6 +696,13 @@ def test_sensitive_c_shows_every_change_of_a_word() -> None:
                 brdf.unit.scale_kernel(np.array([f, other]), c, shift, a.out_max, got)
                 assert got[0] != got[1], (f, other, c)
     first = int(np.nonzero(up)[0][0])
+    assert first == 128  # docs/verification.md: "words below 128 of 2^16"
+    # a full-scale word's fall shows at the top C from 383 down (docs/verification.md)
+    top = np.empty(2, np.int64)
+    full = words - 1
+    for fall, shows in ((383, True), (382, False)):
+        brdf.unit.scale_kernel(np.array([full, full - fall]), a.c_format.hi, shift, a.out_max, top)
+        assert (top[0] != top[1]) == shows
     # below the first word with an up, no C shows a change of one (brute force, the model)
     assert first > 1 and np.array_equal(results(first - 1), results(first))
     assert not np.array_equal(results(first), results(first + 1))
@@ -760,3 +767,28 @@ def test_far_lines_reach_each_accumulator_bit_alone() -> None:
         assert brdf.evaluate(cfg, [acc], r["n_in"])[0] == pi_2
     bits = range(z_width - 2, z_width + len_width - 1)
     assert reached == {(b, s) for b in bits for s in (True, False)}
+
+
+def test_the_exhaustive_check_s_length_is_the_docs() -> None:
+    """The exhaustive check's cycles per form as docs/verification.md gives them (millions, one
+    decimal; the stimulus: reset, a write, then each line's start and the cycles it keeps the
+    unit busy, ``brdf.cycles``, and one more), and what the piecewise form's one-pixel lines
+    would cost (``EXHAUSTIVE_PIXELS`` leaves it out)."""
+    from model.units import brdf
+
+    def cycles(form: str) -> tuple[float, int]:
+        cfg = brdf.UNIT_CONFIGS[form]
+        jobs = mutation_checks.brdf_exhaustive_jobs(cfg)
+        stim = 4 + int((brdf.cycles(jobs[:, 2], cfg) + 2).sum()) + 8
+        return round(stim / 1e6, 1), int((jobs[:, 2] == 0).sum())
+
+    got = {form: cycles(form)[0] for form in brdf.RTL_FORMS}
+    assert got == {"cosine_quadratic": 13.5, "quadratic": 11.9, "cubic": 25.1, "log2": 14.3,
+                   "piecewise": 4.2}  # fmt: skip
+    forms = mutation_checks.EXHAUSTIVE_PIXELS
+    try:
+        mutation_checks.EXHAUSTIVE_PIXELS = (*forms, "piecewise")
+        assert cycles("piecewise") == (162.0, 4_781_782)
+    finally:
+        mutation_checks.EXHAUSTIVE_PIXELS = forms
+    assert brdf.fill_latency(brdf.UNIT_CONFIGS["piecewise"]) == 31
