@@ -163,6 +163,11 @@ def unit_checks(vector_set: str, folder: Path) -> list[Check]:
                 _inputs_check(cfg, BRDF_HIGHLIGHT, brdf_highlight_inputs, folder),
                 _inputs_check(cfg, BRDF_FAR, brdf_far_inputs, folder),
                 _stimulus_check(cfg, BRDF_EXHAUSTIVE, brdf_exhaustive_stimulus, folder),
+                *(
+                    [_stimulus_check(cfg, BRDF_PIXEL_SAMPLE, brdf_pixel_sample_stimulus, folder)]
+                    if cfg.form not in EXHAUSTIVE_PIXELS
+                    else []
+                ),
             ]
             if isinstance(cfg, FixedConfig)
             else []
@@ -473,13 +478,17 @@ def sensitive_c(cfg: FixedConfig) -> tuple[np.ndarray, np.ndarray]:
     return up, down
 
 
-def brdf_exhaustive_jobs(cfg: FixedConfig, ns: Sequence[int] | None = None) -> np.ndarray:
+def brdf_exhaustive_jobs(
+    cfg: FixedConfig, ns: Sequence[int] | None = None, lines: bool = True,
+    pixels: bool | None = None,
+) -> np.ndarray:  # fmt: skip
     """The lines of the exhaustive check for each n of ``ns`` (every n of the unit, 1 to
     N_MAX, by default), one row each (c, n, len, z0, dz): first the n's lines from address 0,
     a table address a pixel, to two past pi/2 (the word there is the cos = 0 word, whatever
     the address), C at its top; then, for each address a whose word f some C shows changed
     (``sensitive_c``) and that is not full scale, a one-pixel line at a with C = up[f] and
-    one with C = down[f] (the forms of ``EXHAUSTIVE_PIXELS``).  A mutant that changes the
+    one with C = down[f] (``pixels``: by default the forms of ``EXHAUSTIVE_PIXELS``; the top
+    C's lines left out with ``lines`` False).  A mutant that changes the
     word of any n at any such address then changes a result: every form's datapath is a
     function of (n, address), pixel by pixel.  A word below about 2^(shift - C's bits) shows
     no change of one at any C (128 at the default widths: C f rounds to 0 whatever C);
@@ -492,13 +501,15 @@ def brdf_exhaustive_jobs(cfg: FixedConfig, ns: Sequence[int] | None = None) -> n
     addrs = np.arange((1 << a_bits) + 1, dtype=np.int64)
     last = (1 << a_bits) + 2
     rows: list[np.ndarray] = []
+    if pixels is None:
+        pixels = cfg.form in EXHAUSTIVE_PIXELS
     for n in ns if ns is not None else range(1, N_MAX + 1):
-        first = 0
+        first = 0 if lines else last + 1
         while first <= last:
             length = min(len_hi, last - first)
             rows.append(np.array([[c_hi, n, length, first << shift, 1 << shift]], np.int64))
             first += length + 1
-        if cfg.form not in EXHAUSTIVE_PIXELS:
+        if not pixels:
             continue
         word = brdf.evaluate(cfg, addrs << shift, n)
         for table in (up, down):
@@ -532,16 +543,38 @@ def back_to_back(spec: UnitSpec, jobs: np.ndarray, busy: np.ndarray) -> soak_sti
     return soak_stimulus.Stimulus(tuple(p.name for p in spec.operands), rst_n, start, we, value)
 
 
+def _lines_back_to_back(cfg: FixedConfig, jobs: np.ndarray) -> soak_stimulus.Stimulus:
+    """``jobs`` (rows of c, n, len, z0, dz) as ``back_to_back`` runs them."""
+    spec = units.spec(cfg)
+    names = [p.name for p in spec.operands]
+    order = [("c", "n", "len", "z0", "dz").index(name) for name in names]
+    return back_to_back(spec, jobs[:, order], brdf.cycles(jobs[:, 2], cfg))
+
+
 def brdf_exhaustive_stimulus(
     cfg: units.UnitConfig, ns: Sequence[int] | None = None
 ) -> soak_stimulus.Stimulus:
     """The exhaustive check's lines (``brdf_exhaustive_jobs``) back to back."""
     assert isinstance(cfg, FixedConfig)
-    spec = units.spec(cfg)
-    names = [p.name for p in spec.operands]
-    order = [("c", "n", "len", "z0", "dz").index(name) for name in names]
-    jobs = brdf_exhaustive_jobs(cfg, ns)
-    return back_to_back(spec, jobs[:, order], brdf.cycles(jobs[:, 2], cfg))
+    return _lines_back_to_back(cfg, brdf_exhaustive_jobs(cfg, ns))
+
+
+# The forms the exhaustive check gives no one-pixel lines (``EXHAUSTIVE_PIXELS``) get them for
+# these n: 1 to 16 (the widest highlights) and 48 more spread evenly to 1000
+PIXEL_SAMPLE_NS = (*range(1, 17), *(int(n) for n in np.linspace(17, 1000, 48).round()))
+BRDF_PIXEL_SAMPLE = (
+    f"one-pixel lines for {len(PIXEL_SAMPLE_NS)} n: the exhaustive check's one-pixel lines "
+    "(each address whose word some C shows changed, at the C just below and the C just above a "
+    "rounding point) for n 1 to 16 and 48 more spread to 1000, for a form whose exhaustive "
+    "check has the top C's lines alone"
+)
+
+
+def brdf_pixel_sample_stimulus(cfg: units.UnitConfig) -> soak_stimulus.Stimulus:
+    """The one-pixel lines of ``brdf_exhaustive_jobs`` for ``PIXEL_SAMPLE_NS``, back to back."""
+    assert isinstance(cfg, FixedConfig)
+    jobs = brdf_exhaustive_jobs(cfg, PIXEL_SAMPLE_NS, lines=False, pixels=True)
+    return _lines_back_to_back(cfg, jobs)
 
 
 def operand_bit_jobs(

@@ -792,3 +792,37 @@ def test_the_exhaustive_check_s_length_is_the_docs() -> None:
     finally:
         mutation_checks.EXHAUSTIVE_PIXELS = forms
     assert brdf.fill_latency(brdf.UNIT_CONFIGS["piecewise"]) == 31
+    # its one-pixel lines for 64 n instead, a check of their own
+    cfg = brdf.UNIT_CONFIGS["piecewise"]
+    sample = mutation_checks.brdf_pixel_sample_stimulus(cfg)
+    assert round(len(sample) / 1e6, 1) == 11.8 and int(sample.start.sum()) == 356_242
+    assert len(mutation_checks.PIXEL_SAMPLE_NS) == 64
+    one_pixel = [c.name for c in mutation_checks.unit_checks("brdf_piecewise", BUILD / "x")]
+    assert one_pixel[-1] == mutation_checks.BRDF_PIXEL_SAMPLE
+    assert mutation_checks.BRDF_PIXEL_SAMPLE not in [
+        c.name for c in mutation_checks.unit_checks("brdf_cubic", BUILD / "x")
+    ]
+
+
+def test_the_facts_that_make_cubic_124_and_log2_143_277_equivalent() -> None:
+    """The survivors docs/verification.md argues equivalent, their facts from the model:
+    cubic 124 (c7_reg bit 18 flipped while bit 20 is set) makes c = 1 read 1.25, and c is 1
+    only at the table addresses whose w is 0, where every n's word is full scale already (c x P
+    only grows: it saturates the same); log2 143 and 277 give a word of at most 4 units of
+    2^-16 where the original gives 0, and such a word times any C rounds to 0."""
+    import numpy as np
+
+    from model.units import brdf
+
+    cfg = brdf.UNIT_CONFIGS["cubic"]
+    one = np.nonzero(brdf.angle_table(cfg) == 0)[0].astype(np.int64)
+    assert one.tolist() == [0, 1, 2]
+    full = (1 << cfg.out_bits) - 1
+    for n in range(1, 1001):
+        assert (brdf.evaluate(cfg, one << cfg.addr_shift, n) == full).all(), n
+    cfg = brdf.UNIT_CONFIGS["log2"]
+    a = cfg.angle
+    out = np.empty(5, np.int64)
+    brdf.unit.scale_kernel(np.arange(5, dtype=np.int64), a.c_format.hi,
+                           a.c_frac_bits + cfg.out_bits, a.out_max, out)  # fmt: skip
+    assert (out == 0).all()
