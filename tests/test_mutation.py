@@ -809,7 +809,8 @@ def test_the_facts_that_make_cubic_124_and_log2_143_277_equivalent() -> None:
     cubic 124 (c7_reg bit 18 flipped while bit 20 is set) makes c = 1 read 1.25, and c is 1
     only at the table addresses whose w is 0, where every n's word is full scale already (c x P
     only grows: it saturates the same); log2 143 and 277 give a word of at most 4 units of
-    2^-16 where the original gives 0, and such a word times any C rounds to 0."""
+    2^-16 where the original gives 0, and such a word times any C rounds to 0; cosine-quadratic
+    6 changes the word past pi/2, which is 0 from n = 3 on."""
     import numpy as np
 
     from model.units import brdf
@@ -826,3 +827,9 @@ def test_the_facts_that_make_cubic_124_and_log2_143_277_equivalent() -> None:
     brdf.unit.scale_kernel(np.arange(5, dtype=np.int64), a.c_format.hi,
                            a.c_frac_bits + cfg.out_bits, a.out_max, out)  # fmt: skip
     assert (out == 0).all()
+    # cosine-quadratic 6 (the word past pi/2 read with w = 1 + 2^-20): the word there is 0
+    # from n = 3 on, 1 - (7n/16) w below 0 either way
+    cfg = brdf.UNIT_CONFIGS["cosine_quadratic"]
+    past = np.array([1 << (cfg.cos_addr_bits + cfg.addr_shift)], np.int64)
+    words = [int(brdf.evaluate(cfg, past, n)[0]) for n in range(1, 1001)]
+    assert min(words[:2]) > 0 and max(words[2:]) == 0
