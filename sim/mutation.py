@@ -71,6 +71,7 @@ from model.units import brdf
 from sim import core_run, mutation_invariants, units, vector_run, vector_sets
 from sim.mutation_checks import (
     BRDF_EXHAUSTIVE,
+    BRDF_PIXEL_SAMPLE,
     CORE_CONFIG,
     CTRL,
     SIM,
@@ -248,8 +249,10 @@ def netlist_digest(design_il: str) -> str:
 
 def quick_sample(rec: dict, n: int) -> list[int]:
     """``n`` ids spread evenly over the mutants a design's record says are killed, but by the
-    BRDF unit's exhaustive check (its file alone 4M to 25M cycles: ``make mutants`` runs it)."""
-    killed = sorted(int(i) for i, check in rec["killed_by"].items() if check != BRDF_EXHAUSTIVE)
+    BRDF unit's exhaustive check or its sampled one-pixel lines (their files 4M to 25M cycles
+    each: ``make mutants`` runs them)."""
+    long = (BRDF_EXHAUSTIVE, BRDF_PIXEL_SAMPLE)
+    killed = sorted(int(i) for i, check in rec["killed_by"].items() if check not in long)
     n = min(n, len(killed))
     return [killed[(k * len(killed)) // n] for k in range(n)]
 
