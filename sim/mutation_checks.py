@@ -2,12 +2,13 @@
 """The checks a mutant of ``make mutants`` meets (sim/mutation.py), in order, and one run of
 one: a unit's committed vector set, then soaks of the same configuration with other seeds; the
 core's committed set as the FuseSoC sim target runs it, then at full rate, with other idles
-and stalls, and random spans; the directed runs and the highlight lines, then the core's
-rounding, sparse, epicentre and saturation spans, last.  A check's
-files (a soak, the random spans) are written when a mutant first reaches it, afresh: the
-generators and the model may change.
+and stalls, and random spans; the directed runs and the highlight lines, then the BRDF unit's
+far lines and its exhaustive check (every n and table address, at the C values that show a
+change of the word there), and the core's rounding, sparse, epicentre and saturation spans,
+last.  A check's files (a soak, the random spans) are written when a mutant first reaches
+it, afresh: the generators and the model may change.
 
-Size: about 640 lines: every check is a generator of stimulus aimed at one kind of fault,
+Size: about 1000 lines: every check is a generator of stimulus aimed at one kind of fault,
 and the list's order is the record's (a check added goes last), so they stay together.
 """
 
@@ -442,9 +443,9 @@ BRDF_EXHAUSTIVE = (
 
 
 # The forms whose exhaustive check has the one-pixel lines: each costs the unit's latency
-# (busy for the fill latency + l cycles), 11.9M to 25M cycles a form; the piecewise form's
-# 2.4 million lit (n, address) pairs, 31 cycles each, would be 160M cycles, so it has only
-# the top C's lines (4.2M)
+# (busy for the fill latency + l cycles), 11.9M to 25.1M cycles a form; the piecewise form's
+# 4.78 million, at 31 clocks, would be 162M cycles, so its check has the top C's lines alone
+# (4.2M) and a check of its own the one-pixel lines for 64 n (``PIXEL_SAMPLE_NS``)
 EXHAUSTIVE_PIXELS = ("cosine_quadratic", "quadratic", "cubic", "log2")
 
 
