@@ -833,3 +833,19 @@ def test_the_facts_that_make_cubic_124_and_log2_143_277_equivalent() -> None:
     past = np.array([1 << (cfg.cos_addr_bits + cfg.addr_shift)], np.int64)
     words = [int(brdf.evaluate(cfg, past, n)[0]) for n in range(1, 1001)]
     assert min(words[:2]) > 0 and max(words[2:]) == 0
+
+
+def test_the_readme_s_survivor_counts_are_the_record_s() -> None:
+    """README.md's `make mutants` row gives the BRDF forms' survivors as the record has them."""
+    text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
+    found = re.search(
+        r"the BRDF forms have (\d+) left, each one listed there: four forms' (\d+) and the "
+        r"piecewise form's (\d+)",
+        text,
+    )
+    assert found, "README.md's make mutants row no longer gives the BRDF survivors"
+    designs = _record()["designs"]
+    count = {name: len(designs[name]["survivors"]) for name in BRDF_DESIGNS}
+    piecewise = count.pop("brdf_unit_piecewise")
+    assert [int(g) for g in found.groups()] == [sum(count.values()) + piecewise,
+                                                sum(count.values()), piecewise]  # fmt: skip
