@@ -69,9 +69,8 @@ from pathlib import Path
 from model.hw.sources import source_list
 from model.units import brdf
 from sim import core_run, mutation_invariants, units, vector_run, vector_sets
+from sim.mutation_brdf import BRDF_EXHAUSTIVE, BRDF_PIXEL_SAMPLE
 from sim.mutation_checks import (
-    BRDF_EXHAUSTIVE,
-    BRDF_PIXEL_SAMPLE,
     CORE_CONFIG,
     CTRL,
     SIM,

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import functools
 import hashlib
+from collections.abc import Callable, Iterable
 from dataclasses import dataclass
 
 import numpy as np
@@ -290,3 +291,48 @@ def from_inputs(spec: UnitSpec, inputs: list[dict[str, int]]) -> Stimulus:
         we.reshape(n, len(names)),
         value.reshape(n, len(names)),
     )
+
+
+def line_rows(
+    spec: UnitSpec, jobs: Iterable[dict[str, int]], wait: Callable[[dict[str, int]], int]
+) -> list[dict[str, int]]:
+    """Three reset cycles, then for each job (its operands by name) a cycle writing every
+    operand, the start, and ``wait(job)`` idle cycles (to its last result)."""
+    ops = spec.operands
+
+    def row(base: dict[str, int], we: int, held: dict[str, int]) -> dict[str, int]:
+        out = dict(base)
+        for p in ops:
+            out[f"{p.name}_we"] = we
+            out[f"{p.name}_in"] = held[p.name]
+        return out
+
+    idle = {"rst_n": 1, "start": 0}
+    rows = [row({"rst_n": 0, "start": 0}, 0, {p.name: 0 for p in ops})] * 3
+    for job in jobs:
+        rows.append(row(idle, 1, job))
+        rows.append(row({"rst_n": 1, "start": 1}, 0, job))
+        rows += [row(idle, 0, job)] * wait(job)
+    return rows
+
+
+def back_to_back(spec: UnitSpec, jobs: np.ndarray, busy: np.ndarray) -> Stimulus:
+    """Three reset cycles, a cycle writing the first job's operands (``jobs``: a row per job,
+    a column per operand in ``spec``'s order), then per job its start, with the next job's
+    operands written in the same cycle (kept for the next line), and ``busy[j]`` + 1 idle
+    cycles: the next start comes in the first cycle the unit is free, or one after; then a
+    tail to the last result."""
+    k, ops = len(jobs), len(spec.operands)
+    span = busy.astype(np.int64) + 2  # the start and the idle cycles after it
+    starts = 4 + np.concatenate(([0], np.cumsum(span)[:-1]))
+    total = 4 + int(span.sum()) + 8
+    rst_n = np.ones(total, np.uint8)
+    rst_n[:3] = 0
+    start = np.zeros(total, np.uint8)
+    start[starts] = 1
+    we = np.zeros((total, ops), np.uint8)
+    value = np.zeros((total, ops), np.int64)
+    we[3], value[3] = 1, jobs[0]
+    we[starts[:-1]], value[starts[:-1]] = 1, jobs[1:]
+    assert k == 0 or starts[-1] + span[-1] + 8 == total
+    return Stimulus(tuple(p.name for p in spec.operands), rst_n, start, we, value)

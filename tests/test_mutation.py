@@ -31,6 +31,7 @@ import pytest
 from model.units.brdf import FixedConfig
 from sim import (
     mutation,
+    mutation_brdf,
     mutation_checks,
     mutation_cuts,
     mutation_invariants,
@@ -616,7 +617,7 @@ def test_brdf_marks_are_the_forms_branch_points(n: int) -> None:
     def near(form: str, cos: float) -> None:
         cfg = brdf.UNIT_CONFIGS[form]
         want = _address(math.acos(cos), cfg)
-        _, marks = mutation_checks.brdf_marks(cfg, n)
+        _, marks = mutation_brdf.brdf_marks(cfg, n)
         assert any(abs(m - want) <= 2 for m in marks), (form, n, want, marks)
 
     near("log2", 0.5 ** (1 / n))
@@ -642,7 +643,7 @@ def test_brdf_highlight_lines_stay_lit_or_cross_a_mark(form: str) -> None:
     from model.units import brdf
 
     cfg = brdf.UNIT_CONFIGS[form]
-    rows = mutation_checks.brdf_highlight_inputs(cfg, 200)
+    rows = mutation_brdf.brdf_highlight_inputs(cfg, 200)
     jobs = [r for r in rows if r["n_we"]]
     assert len(jobs) == 200 and sum(r["start"] for r in rows) == 200
     c_hi = (1 << (cfg.angle.c_int_bits + cfg.angle.c_frac_bits)) - 1
@@ -657,7 +658,7 @@ def test_brdf_highlight_lines_stay_lit_or_cross_a_mark(form: str) -> None:
             lit += int((words >= 1 << (cfg.out_bits - 8)).sum())
             total += z.size
         else:
-            _, marks = mutation_checks.brdf_marks(cfg, n)
+            _, marks = mutation_brdf.brdf_marks(cfg, n)
             mag = np.abs(z)
             points = [(m << shift) - (1 << shift) // 2 for m in marks]
             assert any(mag.min() <= p <= mag.max() for p in points), r
@@ -676,7 +677,7 @@ def test_sensitive_c_shows_every_change_of_a_word() -> None:
     cfg = brdf.UNIT_CONFIGS["quadratic"]
     a = cfg.angle
     shift, words = a.c_frac_bits + cfg.out_bits, 1 << cfg.out_bits
-    up, down = mutation_checks.sensitive_c(cfg)
+    up, down = mutation_brdf.sensitive_c(cfg)
     every_c = np.arange(a.c_format.hi + 1, dtype=np.int64)
 
     def results(f: int) -> np.ndarray:
@@ -722,14 +723,14 @@ def test_the_exhaustive_check_starts_every_line_and_visits_every_address(form: s
 
     cfg = brdf.UNIT_CONFIGS[form]
     ns = [1, 2, 500]
-    jobs = mutation_checks.brdf_exhaustive_jobs(cfg, ns)
-    stim = mutation_checks.brdf_exhaustive_stimulus(cfg, ns)
+    jobs = mutation_brdf.brdf_exhaustive_jobs(cfg, ns)
+    stim = mutation_brdf.brdf_exhaustive_stimulus(cfg, ns)
     assert int(stim.start.sum()) == len(jobs)
     assert int(np.asarray(soak_predict.predict(cfg, stim).valid).sum()) == int(
         (jobs[:, 2] + 1).sum()
     )
     c_hi, shift = cfg.angle.c_format.hi, cfg.addr_shift
-    up, down = mutation_checks.sensitive_c(cfg)
+    up, down = mutation_brdf.sensitive_c(cfg)
     addrs = np.arange((1 << cfg.cos_addr_bits) + 1, dtype=np.int64)
     for n in ns:
         mine = jobs[jobs[:, 1] == n]
@@ -741,7 +742,7 @@ def test_the_exhaustive_check_starts_every_line_and_visits_every_address(form: s
         want = {(int(a), int(t[w])) for t in (up, down) for a, w in zip(addrs, word, strict=True)
                 if t[w] and w < (1 << cfg.out_bits) - 1}  # fmt: skip
         pixels = {(int(z0 >> shift), int(c)) for c, _, ln, z0, dz in mine if ln == 0 and dz == 0}
-        assert pixels == (want if form in mutation_checks.EXHAUSTIVE_PIXELS else set())
+        assert pixels == (want if form in mutation_brdf.EXHAUSTIVE_PIXELS else set())
 
 
 def test_far_lines_reach_each_accumulator_bit_alone() -> None:
@@ -752,7 +753,7 @@ def test_far_lines_reach_each_accumulator_bit_alone() -> None:
 
     cfg = brdf.UNIT_CONFIGS["cosine_quadratic"]
     spec = units.spec(cfg)
-    rows = mutation_checks.brdf_far_inputs(cfg)
+    rows = mutation_brdf.brdf_far_inputs(cfg)
     jobs = [r for r in rows if r["n_we"]]
     z_width, len_width = spec.operand("z0").width, spec.operand("len").width
     pixel, t = 1 << (len_width - 1), 1 << cfg.addr_shift
@@ -778,28 +779,28 @@ def test_the_exhaustive_check_s_length_is_the_docs() -> None:
 
     def cycles(form: str) -> tuple[float, int]:
         cfg = brdf.UNIT_CONFIGS[form]
-        jobs = mutation_checks.brdf_exhaustive_jobs(cfg)
+        jobs = mutation_brdf.brdf_exhaustive_jobs(cfg)
         stim = 4 + int((brdf.cycles(jobs[:, 2], cfg) + 2).sum()) + 8
         return round(stim / 1e6, 1), int((jobs[:, 2] == 0).sum())
 
     got = {form: cycles(form)[0] for form in brdf.RTL_FORMS}
     assert got == {"cosine_quadratic": 13.5, "quadratic": 11.9, "cubic": 25.1, "log2": 14.3,
                    "piecewise": 4.2}  # fmt: skip
-    forms = mutation_checks.EXHAUSTIVE_PIXELS
+    forms = mutation_brdf.EXHAUSTIVE_PIXELS
     try:
-        mutation_checks.EXHAUSTIVE_PIXELS = (*forms, "piecewise")
+        mutation_brdf.EXHAUSTIVE_PIXELS = (*forms, "piecewise")
         assert cycles("piecewise") == (162.0, 4_781_782)
     finally:
-        mutation_checks.EXHAUSTIVE_PIXELS = forms
+        mutation_brdf.EXHAUSTIVE_PIXELS = forms
     assert brdf.fill_latency(brdf.UNIT_CONFIGS["piecewise"]) == 31
     # its one-pixel lines for 64 n instead, a check of their own
     cfg = brdf.UNIT_CONFIGS["piecewise"]
-    sample = mutation_checks.brdf_pixel_sample_stimulus(cfg)
+    sample = mutation_brdf.brdf_pixel_sample_stimulus(cfg)
     assert round(len(sample) / 1e6, 1) == 11.8 and int(sample.start.sum()) == 356_242
-    assert len(mutation_checks.PIXEL_SAMPLE_NS) == 64
+    assert len(mutation_brdf.PIXEL_SAMPLE_NS) == 64
     one_pixel = [c.name for c in mutation_checks.unit_checks("brdf_piecewise", BUILD / "x")]
-    assert one_pixel[-1] == mutation_checks.BRDF_PIXEL_SAMPLE
-    assert mutation_checks.BRDF_PIXEL_SAMPLE not in [
+    assert one_pixel[-1] == mutation_brdf.BRDF_PIXEL_SAMPLE
+    assert mutation_brdf.BRDF_PIXEL_SAMPLE not in [
         c.name for c in mutation_checks.unit_checks("brdf_cubic", BUILD / "x")
     ]
 
