@@ -250,6 +250,12 @@ PDR_STATUS = "pdr_status.txt"
 PDR_TIMEOUT = 300.0
 # The miter after ABC's ``scorr`` (the registers it proves equal merged), which ``pdr`` is given
 REDUCED = "pdr_reduced.aig"
+# With invariants: ABC's ``ind`` (k-induction to IND_FRAMES frames) first, and its verdict file.
+# The outputs and invariants together are often inductive as they stand, and ``scorr``'s
+# reduction can hide that from ``pdr`` (the quadratic form's step-condition mutant: ``ind``
+# proves it in seconds, ``pdr`` in 15 s on the miter itself, not in 900 s after ``scorr``)
+IND_FRAMES = 2
+IND_STATUS = "ind_status.txt"
 
 
 def _constant_false(aig: Path) -> bool:
@@ -457,8 +463,9 @@ def _prove_from_reset(
     the WebAssembly Yosys, reached through its ``abc`` pass with a script of ours): ``scorr``
     (the registers it proves equal in the two copies by induction from the initial state,
     merged), then ``pdr`` (property-directed reachability) on what is left, given ``timeout``
-    seconds.  'proven', 'failed' (a counterexample: a trace from reset that tells the two
-    apart, ``pdr_cex.txt``) or 'undecided' (time out).  ``products``: the multipliers cut
+    seconds; with ``invariants``, ABC's ``ind`` (k-induction, ``IND_FRAMES``) first.
+    'proven', 'failed' (a counterexample: a trace from reset that tells the two apart,
+    ``pdr_cex.txt``) or 'undecided' (time out).  ``products``: the multipliers cut
     too (``cut_products``); ``invariants`` asserted with the outputs (``miter_verilog``).  A
     verdict is kept for the same netlists, script and time limit."""
     cut = (lambda il: cut_products(cut_roms(il))) if products else cut_roms
@@ -481,6 +488,13 @@ def _prove_from_reset(
         f"backup\nread_aiger miter.aig\nstrash\nscorr\nwrite_aiger {REDUCED}\npdr -T {limit}\n"
         f"write_status {PDR_STATUS}\nwrite_cex -a pdr_cex.txt\nrestore\n"
     )
+    (folder / "ind.abc").write_text(
+        f"backup\nread_aiger miter.aig\nstrash\nind -F {IND_FRAMES}\nwrite_status {IND_STATUS}\n"
+        "restore\n"
+    )
+    host = (
+        "design -reset\nread_verilog abc_host.v\nhierarchy -top mutation_abc_host\nproc\ntechmap\n"
+    )
     script = (
         f"read_rtlil gold_reset.il\nrename {top} gold\n"
         f"read_rtlil gate_reset.il\nrename {top} gate\n"
@@ -488,36 +502,45 @@ def _prove_from_reset(
         "proc\nchformal -lower\nflatten\nmemory_map\n"
         # x constants (none but in the ROMs' parameters) and undriven bits: free in each copy
         "techmap\nsetundef -undriven -anyseq\nopt -fast -keepdc\ndffunmap\naigmap\nopt_clean\n"
-        "write_aiger -zinit miter.aig\n"
-        "design -reset\nread_verilog abc_host.v\nhierarchy -top mutation_abc_host\nproc\ntechmap\n"
-        "abc -script pdr.abc\n"
+        "write_aiger -zinit miter.aig\n" + (f"{host}abc -script ind.abc\n" if invariants else "")
     )
     (folder / "reset.ys").write_text(script)
+    (folder / "pdr.ys").write_text(f"{host}abc -script pdr.abc\n")
     digest = hashlib.sha256(repr((script, timeout, contract)).encode())
-    for name in ("gold_reset.il", "gate_reset.il", "miter.v", "pdr.abc"):
+    for name in ("gold_reset.il", "gate_reset.il", "miter.v", "pdr.abc", "ind.abc", "pdr.ys"):
         digest.update((folder / name).read_bytes())
     verdicts = folder.parent / "verdicts.json"
     known = json.loads(verdicts.read_text()) if verdicts.exists() else {}
     key = digest.hexdigest()
     if key in known:
         return str(known[key])
-    for name in (PDR_STATUS, REDUCED):
+    for name in (PDR_STATUS, REDUCED, IND_STATUS):
         (folder / name).unlink(missing_ok=True)
-    try:
-        ran = subprocess.run(
-            [yosys_exe(), "-q", "-l", "reset.log", "-s", "reset.ys"],
-            capture_output=True,
-            text=True,
-            cwd=folder,
-            timeout=timeout + 60,  # the conversion, scorr, and ABC's own limit overrun
-        )
-        done = ran.returncode == 0 and (folder / PDR_STATUS).exists()
-    except subprocess.TimeoutExpired:
-        done = False
-    status = (folder / PDR_STATUS).read_text().split() if done else []
-    verdict = {"snl_UNSAT": "proven", "snl_SAT": "failed"}.get(status[0] if status else "", "")
-    if not verdict:
-        verdict = "proven" if done and _constant_false(folder / REDUCED) else "undecided"
+
+    def run(script: str) -> bool:
+        try:
+            ran = subprocess.run(
+                [yosys_exe(), "-q", "-l", f"{script}.log", "-s", script],
+                capture_output=True,
+                text=True,
+                cwd=folder,
+                timeout=timeout + 60,  # the conversion, scorr, and ABC's own limit overrun
+            )
+        except subprocess.TimeoutExpired:
+            return False
+        return ran.returncode == 0
+
+    # the miter's AIGER (and k-induction, with invariants), then scorr and pdr unless proven
+    done = run("reset.ys") and (folder / "miter.aig").exists()
+    ind = (folder / IND_STATUS).read_text().split() if done and invariants else []
+    if ind[:1] == ["snl_UNSAT"]:
+        verdict = "proven"
+    else:
+        done = done and run("pdr.ys") and (folder / PDR_STATUS).exists()
+        status = (folder / PDR_STATUS).read_text().split() if done else []
+        verdict = {"snl_UNSAT": "proven", "snl_SAT": "failed"}.get(status[0] if status else "", "")
+        if not verdict:
+            verdict = "proven" if done and _constant_false(folder / REDUCED) else "undecided"
     with _verdict_lock:
         known = json.loads(verdicts.read_text()) if verdicts.exists() else {}
         known[key] = verdict
@@ -559,8 +582,9 @@ def equivalence(
     bound, a stage register read only while its valid bit is set).  Fourth: the third with the
     multipliers cut as well (``cut_products``: pdr then faces control and adders, not
     products), then with ``invariants`` (Verilog over ``gold:wire`` and ``gate:wire``,
-    sim/mutation_invariants.py) asserted alongside the outputs, each try given ``pdr_timeout``
-    seconds: what pdr does not find by itself (each stage's registers equal in the two copies
+    sim/mutation_invariants.py) asserted alongside the outputs (ABC's ``ind`` first, then
+    ``scorr`` and ``pdr``), each try given ``pdr_timeout`` seconds: what pdr does not find by
+    itself (each stage's registers equal in the two copies
     while its valid bit is set), then with ``stronger`` added (the other registers equal in
     every cycle).  ``earlier`` = False: the proofs from reset alone (the others already
     failed on it).  The method's text, or None if none proves it."""
@@ -617,5 +641,6 @@ def equivalence(
         if verdict == "proven":
             cut = "ROMs and multipliers" if product_cuts(gold) else "ROMs"
             also = f", with {len(given)} invariants proven alongside" if given else ""
-            return f"scorr and pdr from reset, {cut} cut{also}: {outputs}"
+            engine = "k-induction (ind) or scorr and pdr" if given else "scorr and pdr"
+            return f"{engine} from reset, {cut} cut{also}: {outputs}"
     return None

@@ -422,6 +422,26 @@ def test_the_unstaged_equalities_prove_a_step_condition_mutant_and_find_a_killed
         assert _fourth(log2_list, mutant, tmp_path / str(mutant), given + more) == verdict
 
 
+# The quadratic form's step condition tied true, as log2's 64: the outputs and invariants are
+# inductive as they stand, which ABC's ``ind`` shows and ``pdr`` after ``scorr`` did not in 900 s
+QUADRATIC_STEP = 137
+
+
+def test_k_induction_proves_the_quadratic_form_s_step_condition_mutant(tmp_path: Path) -> None:
+    """Quadratic 137 (the accumulator steps once more after a line's last pixel) with its
+    invariants and the stronger ones: ABC's ``ind`` proves it before ``scorr`` and ``pdr`` are
+    run (its verdict file says so, and pdr's is never written)."""
+    net = mutation.prepare(mutation.DESIGNS["brdf_unit_quadratic"], BUILD)
+    il = net.design_il.read_text()
+    command = net.mutations[QUADRATIC_STEP - 1].command
+    assert "-mode const1" in command and "$logic_not$brdf_unit.v:469" in command
+    given = mutation_invariants.invariants("brdf_unit_quadratic", command, il)
+    given += mutation_invariants.stronger("brdf_unit_quadratic", il)
+    assert _fourth(net, QUADRATIC_STEP, tmp_path, given) == "proven"
+    assert (tmp_path / mutation_proof.IND_STATUS).read_text().split()[0] == "snl_UNSAT"
+    assert not (tmp_path / mutation_proof.PDR_STATUS).exists()
+
+
 def test_an_asynchronous_rom_port_s_reset_is_unbuildable_and_never_read() -> None:
     """The cosine-quadratic list holds a mutation of the angle ROM's asynchronous read port's
     reset (RD_ARST), which Yosys requires to be 0: it cannot go into a netlist, and the cell
