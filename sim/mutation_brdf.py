@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import functools
 import random
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 
 import numpy as np
 from numba import njit
@@ -280,3 +280,39 @@ def brdf_pixel_sample_stimulus(cfg: units.UnitConfig) -> soak_stimulus.Stimulus:
     assert isinstance(cfg, FixedConfig)
     jobs = brdf_exhaustive_jobs(cfg, PIXEL_SAMPLE_NS, lines=False, pixels=True)
     return _lines_back_to_back(cfg, jobs)
+
+
+# The other n's one-pixel lines, after the sample, in PIXEL_REST_PARTS checks of every
+# PIXEL_REST_PARTS-th n (each about 19M cycles, its file about 360 MB: one part's stimulus and
+# prediction are held whole in memory): with the sample, every n's, and so the exhaustive
+# check whole
+PIXEL_REST_NS = tuple(n for n in range(1, N_MAX + 1) if n not in PIXEL_SAMPLE_NS)
+PIXEL_REST_PARTS = 8
+
+
+def brdf_pixel_rest(part: int) -> tuple[str, tuple[int, ...]]:
+    """(name, ns) of the check ``part`` (0 to PIXEL_REST_PARTS - 1) of the other n's one-pixel
+    lines: every PIXEL_REST_PARTS-th n of ``PIXEL_REST_NS`` from its ``part``-th."""
+    if not 0 <= part < PIXEL_REST_PARTS:
+        raise ValueError(f"part {part}: the parts are 0 to {PIXEL_REST_PARTS - 1}")
+    ns = PIXEL_REST_NS[part::PIXEL_REST_PARTS]
+    name = (
+        f"one-pixel lines for the other n, part {part + 1} of {PIXEL_REST_PARTS}: the "
+        f"exhaustive check's one-pixel lines for {len(ns)} n (every {PIXEL_REST_PARTS}th of "
+        f"the {len(PIXEL_REST_NS)} the sample leaves out, from n = {ns[0]} to {ns[-1]}), for "
+        "a form whose exhaustive check has the top C's lines alone"
+    )
+    return name, ns
+
+
+def brdf_pixel_rest_stimulus(part: int) -> Callable[[units.UnitConfig], soak_stimulus.Stimulus]:
+    """The stimulus of the check ``part`` of ``brdf_pixel_rest``: its n's one-pixel lines,
+    back to back."""
+    _, ns = brdf_pixel_rest(part)
+
+    def stimulus(cfg: units.UnitConfig) -> soak_stimulus.Stimulus:
+        assert isinstance(cfg, FixedConfig)
+        jobs = brdf_exhaustive_jobs(cfg, ns, lines=False, pixels=True)
+        return _lines_back_to_back(cfg, jobs)
+
+    return stimulus

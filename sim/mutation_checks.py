@@ -37,9 +37,12 @@ from sim.mutation_brdf import (
     BRDF_HIGHLIGHT,
     BRDF_PIXEL_SAMPLE,
     EXHAUSTIVE_PIXELS,
+    PIXEL_REST_PARTS,
     brdf_exhaustive_stimulus,
     brdf_far_inputs,
     brdf_highlight_inputs,
+    brdf_pixel_rest,
+    brdf_pixel_rest_stimulus,
     brdf_pixel_sample_stimulus,
 )
 from sim.protocol import UnitSpec
@@ -152,6 +155,16 @@ def _stimulus_check(
     return Check(name, out, 0, writer=write, spec=units.spec(cfg))
 
 
+def _pixel_checks(cfg: FixedConfig, folder: Path) -> list[Check]:
+    """The one-pixel lines of a BRDF form whose exhaustive check has the top C's lines alone:
+    for the sample's 64 n, then for the other n in ``PIXEL_REST_PARTS`` parts."""
+    rest = [
+        _stimulus_check(cfg, brdf_pixel_rest(part)[0], brdf_pixel_rest_stimulus(part), folder)
+        for part in range(PIXEL_REST_PARTS)
+    ]
+    return [_stimulus_check(cfg, BRDF_PIXEL_SAMPLE, brdf_pixel_sample_stimulus, folder), *rest]
+
+
 def unit_checks(vector_set: str, folder: Path) -> list[Check]:
     """The committed set, then the longer soaks of the same configuration, the directed run,
     the operand bits and the long soak (each written on first use into ``folder``)."""
@@ -174,11 +187,7 @@ def unit_checks(vector_set: str, folder: Path) -> list[Check]:
                 _inputs_check(cfg, BRDF_HIGHLIGHT, brdf_highlight_inputs, folder),
                 _inputs_check(cfg, BRDF_FAR, brdf_far_inputs, folder),
                 _stimulus_check(cfg, BRDF_EXHAUSTIVE, brdf_exhaustive_stimulus, folder),
-                *(
-                    [_stimulus_check(cfg, BRDF_PIXEL_SAMPLE, brdf_pixel_sample_stimulus, folder)]
-                    if cfg.form not in EXHAUSTIVE_PIXELS
-                    else []
-                ),
+                *(_pixel_checks(cfg, folder) if cfg.form not in EXHAUSTIVE_PIXELS else []),
             ]
             if isinstance(cfg, FixedConfig)
             else []

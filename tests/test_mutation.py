@@ -818,11 +818,29 @@ def test_the_exhaustive_check_s_length_is_the_docs() -> None:
     sample = mutation_brdf.brdf_pixel_sample_stimulus(cfg)
     assert round(len(sample) / 1e6, 1) == 11.8 and int(sample.start.sum()) == 356_242
     assert len(mutation_brdf.PIXEL_SAMPLE_NS) == 64
-    one_pixel = [c.name for c in mutation_checks.unit_checks("brdf_piecewise", BUILD / "x")]
-    assert one_pixel[-1] == mutation_brdf.BRDF_PIXEL_SAMPLE
-    assert mutation_brdf.BRDF_PIXEL_SAMPLE not in [
-        c.name for c in mutation_checks.unit_checks("brdf_cubic", BUILD / "x")
-    ]
+    # then the other n's, in eight parts of 117 n each: with the sample, every n's one-pixel
+    # lines, each once
+    parts = mutation_brdf.PIXEL_REST_PARTS
+    rest = [mutation_brdf.brdf_pixel_rest(part) for part in range(parts)]
+    every = [n for _, ns in rest for n in ns] + list(mutation_brdf.PIXEL_SAMPLE_NS)
+    assert sorted(every) == list(range(1, 1001))
+    sizes = []
+    for _, ns in rest:
+        jobs = mutation_brdf.brdf_exhaustive_jobs(cfg, ns, lines=False, pixels=True)
+        sizes.append((4 + int((brdf.cycles(jobs[:, 2], cfg) + 2).sum()) + 8, len(jobs)))
+    # the stimulus is those lines back to back
+    first = mutation_brdf.brdf_pixel_rest_stimulus(0)(cfg)
+    assert (len(first), int(first.start.sum())) == sizes[0]
+    del first
+    assert [len(ns) for _, ns in rest] == [117] * 8
+    assert [round(c / 1e6, 1) for c, _ in sizes] == [18.3, 18.3, 18.3, 18.3, 18.2, 18.2, 18.2, 18.2]
+    assert int(sample.start.sum()) + sum(lines for _, lines in sizes) == 4_781_782
+    names = [c.name for c in mutation_checks.unit_checks("brdf_piecewise", BUILD / "x")]
+    assert names[-9:] == [mutation_brdf.BRDF_PIXEL_SAMPLE, *(name for name, _ in rest)]
+    cubic = [c.name for c in mutation_checks.unit_checks("brdf_cubic", BUILD / "x")]
+    assert not set(names[-9:]) & set(cubic)
+    with pytest.raises(ValueError, match="part 8: the parts are 0 to 7"):
+        mutation_brdf.brdf_pixel_rest(8)
 
 
 def test_the_facts_that_make_cubic_124_and_log2_143_277_equivalent() -> None:
