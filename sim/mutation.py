@@ -69,7 +69,7 @@ from pathlib import Path
 from model.hw.sources import source_list
 from model.units import brdf
 from sim import core_run, mutation_invariants, units, vector_run, vector_sets
-from sim.mutation_brdf import BRDF_EXHAUSTIVE, BRDF_PIXEL_SAMPLE, PIXEL_REST_PARTS, brdf_pixel_rest
+from sim.mutation_brdf import BRDF_LONG_CHECKS
 from sim.mutation_checks import (
     CORE_CONFIG,
     CTRL,
@@ -248,11 +248,11 @@ def netlist_digest(design_il: str) -> str:
 
 def quick_sample(rec: dict, n: int) -> list[int]:
     """``n`` ids spread evenly over the mutants a design's record says are killed, but by the
-    BRDF unit's exhaustive check or its sampled one-pixel lines (their files 4M to 25M cycles
-    each: ``make mutants`` runs them)."""
-    long = (BRDF_EXHAUSTIVE, BRDF_PIXEL_SAMPLE,
-            *(brdf_pixel_rest(part)[0] for part in range(PIXEL_REST_PARTS)))  # fmt: skip
-    killed = sorted(int(i) for i, check in rec["killed_by"].items() if check not in long)
+    BRDF unit's exhaustive check and its one-pixel lines (``BRDF_LONG_CHECKS``: 4M to 25M
+    cycles each, ``make mutants`` runs them)."""
+    killed = sorted(
+        int(i) for i, check in rec["killed_by"].items() if check not in BRDF_LONG_CHECKS
+    )
     n = min(n, len(killed))
     return [killed[(k * len(killed)) // n] for k in range(n)]
 

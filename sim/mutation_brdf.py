@@ -275,11 +275,19 @@ BRDF_PIXEL_SAMPLE = (
 )
 
 
-def brdf_pixel_sample_stimulus(cfg: units.UnitConfig) -> soak_stimulus.Stimulus:
-    """The one-pixel lines of ``brdf_exhaustive_jobs`` for ``PIXEL_SAMPLE_NS``, back to back."""
-    assert isinstance(cfg, FixedConfig)
-    jobs = brdf_exhaustive_jobs(cfg, PIXEL_SAMPLE_NS, lines=False, pixels=True)
-    return _lines_back_to_back(cfg, jobs)
+def _pixel_lines(ns: Sequence[int]) -> Callable[[units.UnitConfig], soak_stimulus.Stimulus]:
+    """The stimulus of the one-pixel lines of ``brdf_exhaustive_jobs`` for ``ns``, back to
+    back."""
+
+    def stimulus(cfg: units.UnitConfig) -> soak_stimulus.Stimulus:
+        assert isinstance(cfg, FixedConfig)
+        return _lines_back_to_back(cfg, brdf_exhaustive_jobs(cfg, ns, lines=False, pixels=True))
+
+    return stimulus
+
+
+# The one-pixel lines for ``PIXEL_SAMPLE_NS``
+brdf_pixel_sample_stimulus = _pixel_lines(PIXEL_SAMPLE_NS)
 
 
 # The other n's one-pixel lines, after the sample, in PIXEL_REST_PARTS checks of every
@@ -308,11 +316,13 @@ def brdf_pixel_rest(part: int) -> tuple[str, tuple[int, ...]]:
 def brdf_pixel_rest_stimulus(part: int) -> Callable[[units.UnitConfig], soak_stimulus.Stimulus]:
     """The stimulus of the check ``part`` of ``brdf_pixel_rest``: its n's one-pixel lines,
     back to back."""
-    _, ns = brdf_pixel_rest(part)
+    return _pixel_lines(brdf_pixel_rest(part)[1])
 
-    def stimulus(cfg: units.UnitConfig) -> soak_stimulus.Stimulus:
-        assert isinstance(cfg, FixedConfig)
-        jobs = brdf_exhaustive_jobs(cfg, ns, lines=False, pixels=True)
-        return _lines_back_to_back(cfg, jobs)
 
-    return stimulus
+# The checks whose files run to millions of cycles (4M to 25M each): ``make mutants`` runs
+# them, the quick tier's sample leaves their kills out
+BRDF_LONG_CHECKS = (
+    BRDF_EXHAUSTIVE,
+    BRDF_PIXEL_SAMPLE,
+    *(brdf_pixel_rest(part)[0] for part in range(PIXEL_REST_PARTS)),
+)

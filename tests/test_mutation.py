@@ -874,6 +874,30 @@ def test_the_facts_that_make_cubic_124_and_log2_143_277_equivalent() -> None:
     assert min(words[:2]) > 0 and max(words[2:]) == 0
 
 
+def test_the_piecewise_survivors_by_file_are_the_docs() -> None:
+    """docs/verification.md's count of the piecewise form's survivors by the source file of
+    their mutation (its first ``-src``), as the record has them."""
+    text = DOC.read_text()
+    found = re.search(
+        r"leave (\d+) of its 53: (\d+) in\s+its split multipliers \(`brdf_mul.v`.*?(\d+) in its "
+        r"pipelined divider \(`brdf_div.v`.*?(\d+) elsewhere in its cubic\s+part "
+        r"\(`brdf_cubic.v`\), one in `brdf_piecewise.v`",
+        text,
+        re.S,
+    )
+    assert found, "docs/verification.md no longer counts the piecewise survivors by file"
+    survivors = _record()["designs"]["brdf_unit_piecewise"]["survivors"]
+    files = [re.search(r"-src (\w+)\.v:", o["command"]).group(1) for o in survivors]
+    by_file = {f: files.count(f) for f in set(files)}
+    assert [int(g) for g in found.groups()] == [
+        len(files),
+        by_file["brdf_mul"],
+        by_file["brdf_div"],
+        by_file["brdf_cubic"],
+    ]
+    assert by_file["brdf_piecewise"] == 1 and len(by_file) == 4
+
+
 def test_the_readme_s_survivor_counts_are_the_record_s() -> None:
     """README.md's `make mutants` row gives the BRDF forms' survivors as the record has them."""
     text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
