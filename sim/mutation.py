@@ -35,7 +35,8 @@ For each design (the three units and the shading core) at its default configurat
    design's ``contract`` defines them, proven by ABC's ``pdr`` (sim/mutation_proof.py), then
    the same with the multipliers cut and with the invariants of sim/mutation_invariants.py
    asserted alongside (each stage's registers equal in the two copies while its valid bit is
-   set, a mutation's own).  A
+   set, a mutation's own), and for a mutation inside a BRDF form's datapath a bounded check
+   of that window with the tables' words kept (``Design.window``).  A
    proven mutant is *equivalent* (no test can kill it); one neither killed nor proven is a
    *survivor*.
 
@@ -69,7 +70,7 @@ from pathlib import Path
 from model.hw.sources import source_list
 from model.units import brdf
 from sim import core_run, mutation_invariants, units, vector_run, vector_sets
-from sim.mutation_brdf import BRDF_LONG_CHECKS
+from sim.mutation_brdf import BRDF_LONG_CHECKS, brdf_window
 from sim.mutation_checks import (
     CORE_CONFIG,
     CTRL,
@@ -86,6 +87,7 @@ from sim.mutation_checks import (
 from sim.mutation_proof import (
     PDR_TIMEOUT,
     Contract,
+    Window,
     equivalence,
     mutate_field,
     run_yosys,
@@ -129,6 +131,13 @@ class Design:
             )
         spec = units.spec(vector_sets.SETS[self.vector_set][0])
         return Contract("valid", tuple(p.name for p in spec.outputs if p.kind == "data"), True)
+
+    @property
+    def window(self) -> Window | None:
+        """The fifth proof's window: a BRDF form's datapath (``brdf_window``), or None."""
+        if self.top != "brdf_unit":
+            return None
+        return brdf_window(vector_sets.SETS[self.vector_set][0])
 
 
 DESIGNS: dict[str, Design] = {
@@ -414,6 +423,7 @@ def run_design(
                             design.name, by_id[i].command, design_text
                         ),
                         stronger=mutation_invariants.stronger(design.name, design_text),
+                        window=design.window,
                     ),
                     alive,
                 ),

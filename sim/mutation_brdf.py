@@ -21,8 +21,10 @@ from numba import njit
 
 from model.units import brdf
 from model.units.brdf import FixedConfig
+from model.units.brdf.unit import scale_kernel
 from model.units.specular import N_MAX
 from sim import soak_stimulus, units
+from sim.mutation_proof import Window
 
 # The highlight lines' seed (the record's lines were drawn with it: sim/mutation_checks.py's
 # DIRECTED_SEED + 8)
@@ -326,3 +328,35 @@ BRDF_LONG_CHECKS = (
     BRDF_PIXEL_SAMPLE,
     *(brdf_pixel_rest(part)[0] for part in range(PIXEL_REST_PARTS)),
 )
+
+
+# ---------------------------------------------------------------- the window of the fifth proof
+# The cycle whose angle-table address is the checked pixel's: the schedule writes n in cycle 0
+# and starts in cycle 1, so the line's word is in k_run_reg from cycle 2, and a line's first
+# pixel has its address five edges after that (its w in cycle 7), as in a line the unit runs
+WINDOW_PIXEL = 5
+
+
+def brdf_window(cfg: FixedConfig) -> Window:
+    """The BRDF unit's datapath as the fifth proof's window (sim/mutation_proof.py,
+    ``prove_window``): from the front's address register (S3, every value of it one the
+    unit can hold: pi/2 and beyond read as w = 2^D) and the line's word k_run_reg (n written
+    while idle, then a start) to the form's output word ``form_y``, two edges (the table read,
+    the w gate) and the form's latency after the address.  ``tiny``: the smallest word that
+    the largest C scales to an output above 0 (the model's rounding, ``scale_kernel``):
+    C x word is rounded and saturated, non-decreasing in each, so a word below it shows 0 at
+    every C."""
+    a = cfg.angle
+    words = np.arange(1 << cfg.out_bits, dtype=np.int64)
+    shown = np.empty_like(words)
+    scale_kernel(words, a.c_format.hi, a.c_frac_bits + cfg.out_bits, a.out_max, shown)
+    tiny = int(np.argmax(shown > 0)) if shown.any() else 1 << cfg.out_bits
+    return Window(
+        cut="u_front.addr_reg",
+        sources=("u_front.addr_reg", "k_run_reg"),
+        idle="busy_reg",
+        schedule=(("rst_n", "1'b1"), ("n_we", "t == 0"), ("start", "t == 1")),
+        observe="form_y",
+        frame=WINDOW_PIXEL + 2 + brdf.form_latency(cfg),
+        tiny=tiny,
+    )

@@ -143,7 +143,7 @@ def cut_roms(il: str) -> str:
     return f"{head}\nmodule {first}\n" + "\n".join(numbered) + "\n" + body
 
 
-def _add_ports(text: str, decls: list[str]) -> str:
+def add_ports(text: str, decls: list[str]) -> str:
     """The RTLIL ``text`` (one module) with the wires ``decls`` (each with ``{port}`` where its
     port number goes) declared at its top, numbered after its last port."""
     port = max(int(n) for n in re.findall(r"^\s*wire .*(?:input|output) (\d+) ", text, re.M))
@@ -189,7 +189,7 @@ def cut_products(il: str) -> str:
             f"  connect {name}_in {{ {conns['A']} {conns['B']} }}\n  connect {conns['Y']} {name}_y",
             1,
         )
-    return _add_ports(il, decls)
+    return add_ports(il, decls)
 
 
 # The prefix of the output ports that show an internal wire to an invariant (``probed``)
@@ -245,7 +245,7 @@ def probed(il: str, top: str, wires: list[str]) -> str:
     head, rest = il.split(f"\nmodule \\{top}\n", 1)
     inner, tail = rest.split("\nend\n", 1)
     text = f"{head}\nmodule \\{top}\n{inner}\n" + "\n".join(conns) + "\nend\n" + tail
-    return _add_ports(text, decls)
+    return add_ports(text, decls)
 
 
 def _by_constant(block: str) -> bool:

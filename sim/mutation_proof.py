@@ -2,7 +2,7 @@
 """The formal equivalence checks of ``make mutants`` (sim/mutation.py): a mutant that every
 check passes, against the original design, in Yosys.
 
-The ROM tables are cut out of both designs (``cut_roms``).  Four kinds of proof
+The ROM tables are cut out of both designs (``cut_roms``).  Five kinds of proof
 (``equivalence``):
 
 * Yosys's equivalence flow, ``equiv_make`` (a ``$equiv`` cell per bit of every named wire the
@@ -24,13 +24,17 @@ The ROM tables are cut out of both designs (``cut_roms``).  Four kinds of proof
   alongside the outputs: what pdr does not find through a multiplier, or at all in its time
   (a stage register equal in the two copies while its valid bit is set), then with a
   design's stronger set (the BRDF unit's other registers equal in every cycle).
+* A window of a unit's datapath (``Window``, ``prove_window``): the two designs from two
+  unrelated arbitrary states, the pixel's table address free, the line's constant loaded
+  from the tables, whose words are kept, the word the window computes compared in the cycle
+  it is ready by ABC's ``bmc3``: what holds only for the tables' words.
 
 A verdict is kept per folder for the same netlists and script.
 
 The netlist surgery they share (the ROM and product cuts, the probes of the invariants) is
 sim/mutation_cuts.py.
 
-Size: about 600 lines: the four proofs share the miter's netlists, the verdict cache and the
+Size: about 900 lines: the five proofs share the miter's netlists, the verdict cache and the
 Yosys runs; each is one method of telling a mutant from the original.
 """
 
@@ -49,11 +53,13 @@ from sim.gate import yosys_exe
 from sim.mutation_cuts import (
     PROBE,
     PRODUCT,
+    add_ports,
     cut_products,
     cut_roms,
     invariant_verilog,
     invariant_wires,
     observed,
+    probe_name,
     probed,
     product_cuts,
     rom_reads,
@@ -566,6 +572,7 @@ def equivalence(
     folder: Path, top: str, design_il: Path, command: str, unit: bool, seq: int = 4,
     timeout: float = 90, contract: Contract | None = None, pdr_timeout: float = PDR_TIMEOUT,
     earlier: bool = True, invariants: tuple[str, ...] = (), stronger: tuple[str, ...] = (),
+    window: Window | None = None,
 ) -> str | None:  # fmt: skip
     """Prove the design ``design_il`` (RTLIL, module ``top``) with the mutation ``command``
     equal to the original, the ROMs cut (``cut_roms``), in ``folder``: every matched named
@@ -586,8 +593,11 @@ def equivalence(
     ``scorr`` and ``pdr``), each try given ``pdr_timeout`` seconds: what pdr does not find by
     itself (each stage's registers equal in the two copies
     while its valid bit is set), then with ``stronger`` added (the other registers equal in
-    every cycle).  ``earlier`` = False: the proofs from reset alone (the others already
-    failed on it).  The method's text, or None if none proves it."""
+    every cycle).  Fifth, for a mutation inside ``window`` (``in_window``): the window's word
+    for one pixel from two arbitrary states, its address free and the line's constant loaded
+    from the tables (``prove_window``): what holds only for the tables' words.  ``earlier`` =
+    False: the proofs from reset alone, and the window (the others already failed on it).  The
+    method's text, or None if none proves it."""
     unread = unread_port(design_il.read_text(), command)
     if unread is not None:
         return unread
@@ -643,4 +653,239 @@ def equivalence(
             also = f", with {len(given)} invariants proven alongside" if given else ""
             engine = "k-induction (ind) or scorr and pdr" if given else "scorr and pdr"
             return f"{engine} from reset, {cut} cut{also}: {outputs}"
+    if (
+        window is not None
+        and in_window(folder, design_il, command, window)
+        and prove_window(folder, top, gold, gate, window) == "proven"
+    ):
+        small = f", or both below {window.tiny}" if window.tiny else ""
+        return (
+            f"bmc3 over the datapath from two arbitrary states, tables kept, multipliers "
+            f"cut: {window.observe} equal{small}, for every address and line word"
+        )
     return None
+
+
+# ---------------------------------------------------------------- the fifth proof: a window
+@dataclass(frozen=True)
+class Window:
+    """A feed-forward stretch of a unit, from the wires that carry one pixel's operands into it
+    to the word it computes for that pixel, for the fifth proof (``prove_window``).
+
+    ``cut``: the register whose output is replaced by a free input in every cycle (the pixel's
+    angle-table address: every value of it is one the unit can hold).  ``sources``: it and the
+    registers the window's schedule loads (the line's constant word); a mutation upstream of any
+    of them is out of the window's reach.  ``idle``: a control register that starts at 0 in
+    both copies (the unit idle, so the schedule's writes and start are taken).  ``schedule``:
+    inputs held to a Verilog expression of the cycle ``t``; every other input is free in every
+    cycle.  ``observe``: the wire the mutation must reach the outputs through, compared in cycle
+    ``frame`` only (the pixel whose address was cut in cycle ``frame - latency``).  ``tiny``:
+    words below it may differ (no operand scales them above 0: the unit's output stage rounds
+    C x word, and C x (tiny - 1) rounds to 0 at the largest C); 0: every word must agree."""
+
+    cut: str
+    sources: tuple[str, ...]
+    idle: str
+    schedule: tuple[tuple[str, str], ...]
+    observe: str
+    frame: int
+    tiny: int = 0
+
+
+# The cut wire's free input, and its old driver's output (left unread)
+WINDOW_CUT = "mutation_cut"
+# Seconds given to ABC's bmc3 on a window
+WINDOW_TIMEOUT = 120.0
+BMC_STATUS = "bmc_status.txt"
+
+
+def in_window(folder: Path, design_il: Path, command: str, window: Window) -> bool:
+    """The cell the mutation ``command`` changes lies inside ``window`` (Yosys ``select`` on the
+    original netlist): in no source's fan-in cone, across any number of registers (so the
+    window's free address and its schedule's loads carry whatever the mutant would give them),
+    and reaching no output port but through ``window.observe`` (its fan-out cone, with that
+    wire cut, holds no output)."""
+    cell = mutate_field(command, "cell")
+    original = os.path.relpath(design_il, folder)
+    upstream = "".join(f"select -assert-none c:{cell} w:{s} %ci* %i\n" for s in window.sources)
+    try:
+        run_yosys(
+            f"read_rtlil {original}\nopt_clean\n{upstream}expose -cut w:{window.observe}\n"
+            f"select -assert-none c:{cell} %co* o:* %i o:{window.observe} %d\n",
+            folder,
+            "window_reach",
+        )
+    except RuntimeError:
+        return False
+    return True
+
+
+def cut_register(il: str, top: str, wire: str) -> str:
+    """The RTLIL ``il`` with the flip-flop that drives ``wire`` (its whole Q) left driving an
+    unread wire, and ``wire`` driven by a new input port ``WINDOW_CUT`` of its width."""
+    body = il.split(f"\nmodule \\{top}\n", 1)[1].split("\nend\n", 1)[0]
+    pattern = rf"^(\s*connect \\Q )\\{re.escape(wire)}$"
+    if len(re.findall(pattern, body, re.M)) != 1:
+        raise ValueError(f"{top} has no one flip-flop whose Q is all of {wire}")
+    width = re.search(rf"^\s*wire (?:width (\d+) )?\\{re.escape(wire)}$", body, re.M)
+    bits = int(width.group(1) or 1) if width else 1
+    head, rest = il.split(f"\nmodule \\{top}\n", 1)
+    inner, tail = rest.split("\nend\n", 1)
+    inner = re.sub(pattern, rf"\1\\{WINDOW_CUT}_raw", inner, count=1, flags=re.M)
+    text = (
+        f"{head}\nmodule \\{top}\n  wire width {bits} \\{WINDOW_CUT}_raw\n{inner}\n"
+        f"  connect \\{wire} \\{WINDOW_CUT}\nend\n{tail}"
+    )
+    return add_ports(text, [f"  wire width {bits} input {{port}} \\{WINDOW_CUT}"])
+
+
+def power_up_input(il: str, top: str, wire: str) -> str:
+    """The ``shared_power_up`` input that the flip-flop driving ``wire`` starts from."""
+    body = il.split(f"\nmodule \\{top}\n", 1)[1].split("\nend\n", 1)[0]
+    cells = re.findall(r"^\s*cell \$dff (\S+)\n(.*?)^\s*end$", body, re.M | re.S)
+    order = {name: k for k, name in enumerate(sorted(name for name, _ in cells))}
+    for name, block in cells:
+        if re.search(rf"^\s*connect \\Q \\{re.escape(wire)}$", block, re.M):
+            return f"{POWER_UP}{order[name]}"
+    raise ValueError(f"{top} has no flip-flop whose Q is all of {wire}")
+
+
+def window_verilog(ports: dict[str, tuple[str, int]], window: Window, muls: int, idle: str) -> str:
+    """The top of the fifth proof: ``gold`` and ``gate``, each from its own power-up state
+    (``mutation_init*`` inputs apiece) but ``idle``, which is 0 in both; the inputs of
+    ``window.schedule`` held to their expressions of the cycle count ``t`` and every other input
+    free and the same in both; a cut multiplier (``cut_products``) gives the mutant the
+    original's product where their operands agree and any value where not.  One assertion: in
+    cycle ``window.frame`` the observed words agree, or both lie below ``window.tiny``."""
+    fixed = dict(window.schedule) | {FIRST: "t == 0", idle: "1'b0"}
+    inputs = {n: w for n, (d, w) in ports.items() if d == "input" and n not in fixed}
+    own = {n for n in inputs if n.startswith(POWER_UP)}
+    shared = {n: w for n, w in inputs.items() if n not in own}
+    shared |= {f"{PRODUCT}{k}_other": ports[f"{PRODUCT}{k}_y"][1] for k in range(muls)}
+    seen = probe_name(window.observe)
+    width = ports[seen][1]
+    decls = [f"    input wire [{w - 1}:0] {n}" for n, w in shared.items()]
+    decls += [
+        f"    input wire [{inputs[n] - 1}:0] {c}_{n}" for n in sorted(own) for c in ("gold", "gate")
+    ]
+    last = window.frame + 1
+    lines = ["module mutation_window (", ",\n".join(decls), ");", "    reg [15:0] t = 16'd0;"]
+    lines.append(f"    always @(posedge clk) if (t != 16'd{last}) t <= t + 16'd1;")
+    lines.append(f"    wire [{width - 1}:0] gold_seen, gate_seen;")
+    for k in range(muls):
+        lines.append(f"    wire [{ports[f'{PRODUCT}{k}_in'][1] - 1}:0] gold_{PRODUCT}{k}_in, "
+                     f"gate_{PRODUCT}{k}_in;")  # fmt: skip
+    for copy in ("gold", "gate"):
+        given = {n: n for n in shared if n in ports} | {n: f"{copy}_{n}" for n in own} | fixed
+        if copy == "gate":
+            given |= {
+                f"{PRODUCT}{k}_y": f"gold_{PRODUCT}{k}_in == gate_{PRODUCT}{k}_in ? "
+                f"{PRODUCT}{k}_y : {PRODUCT}{k}_other"
+                for k in range(muls)
+            }
+        conns = [f".{n}({v})" for n, v in given.items()] + [f".{seen}({copy}_seen)"]
+        conns += [f".{PRODUCT}{k}_in({copy}_{PRODUCT}{k}_in)" for k in range(muls)]
+        lines.append(f"    {copy} {copy}_copy ({', '.join(conns)});")
+    small = f"(gold_seen < {window.tiny} && gate_seen < {window.tiny})" if window.tiny else "1'b0"
+    lines += [
+        f"    always @* assert (t != 16'd{window.frame} || gold_seen == gate_seen || {small});",
+        "endmodule",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def prove_window(
+    folder: Path, top: str, gold_il: str, gate_il: str, window: Window,
+    timeout: float = WINDOW_TIMEOUT,
+) -> str:  # fmt: skip
+    """The fifth proof: the original ``gold_il`` and the mutant ``gate_il`` (RTLIL, ROMs kept:
+    their words are the design's) through ``window``, bounded: ABC's ``bmc3`` over cycles 0 ..
+    ``window.frame`` of ``window_verilog``'s miter, the multipliers cut (``cut_products``).
+    From two unrelated arbitrary states, with the line's constant loaded by the schedule and
+    the pixel's address free: what the observed word is in that cycle is a function of the
+    window's inputs alone where no register older than the window reaches it, and where one
+    does, the check covers every value it can hold, in each copy apart.  'proven' (no cycle up
+    to ``frame`` asserts), 'failed' (``bmc_cex.txt``) or 'undecided' (time out).  A verdict is
+    kept for the same netlists, script and time limit."""
+
+    def prepared(il: str, name: str) -> tuple[str, str]:
+        text = _memories_mapped(folder, cut_products(il), name)
+        text = cut_register(text, top, window.cut)
+        idle = power_up_input(text, top, window.idle)
+        return probed(shared_power_up(text, top), top, [window.observe]), idle
+
+    gold, idle = prepared(gold_il, "gold")
+    gate, idle_gate = prepared(gate_il, "gate")
+    ports = _port_widths(gold, top)
+    if ports != _port_widths(gate, top) or idle != idle_gate:
+        return "undecided"
+    (folder / "gold_window.il").write_text(gold)
+    (folder / "gate_window.il").write_text(gate)
+    miter = window_verilog(ports, window, len(product_cuts(gold_il)), idle)
+    (folder / "window.v").write_text(miter)
+    (folder / "abc_host.v").write_text(_ABC_HOST)
+    # bmc3 to the cycle after the frame: its status names the last cycle it cleared
+    frames = window.frame + 2
+    (folder / "bmc.abc").write_text(
+        f"backup\nread_aiger window.aig\nstrash\nbmc3 -F {frames} -T {max(1, int(timeout))}\n"
+        f"write_status {BMC_STATUS}\nwrite_cex -a bmc_cex.txt\nrestore\n"
+    )
+    script = (
+        f"read_rtlil gold_window.il\nrename {top} gold\nread_rtlil gate_window.il\n"
+        f"rename {top} gate\nread_verilog -formal window.v\nhierarchy -top mutation_window\n"
+        "proc\nchformal -lower\nflatten\nmemory_map\n"
+        "techmap\nsetundef -undriven -anyseq\nopt -fast -keepdc\ndffunmap\naigmap\nopt_clean\n"
+        "write_aiger -zinit window.aig\ndesign -reset\nread_verilog abc_host.v\n"
+        "hierarchy -top mutation_abc_host\nproc\ntechmap\nabc -script bmc.abc\n"
+    )
+    (folder / "window.ys").write_text(script)
+    digest = hashlib.sha256(repr((script, timeout, window)).encode())
+    for name in ("gold_window.il", "gate_window.il", "window.v", "bmc.abc"):
+        digest.update((folder / name).read_bytes())
+    verdicts = folder.parent / "verdicts.json"
+    known = json.loads(verdicts.read_text()) if verdicts.exists() else {}
+    key = digest.hexdigest()
+    if key in known:
+        return str(known[key])
+    (folder / BMC_STATUS).unlink(missing_ok=True)
+    try:
+        ran = subprocess.run(
+            [yosys_exe(), "-q", "-l", "window.log", "-s", "window.ys"],
+            capture_output=True,
+            text=True,
+            cwd=folder,
+            timeout=timeout + 120,  # the conversion, and ABC's own limit overrun
+        )
+        done = ran.returncode == 0 and (folder / BMC_STATUS).exists()
+    except subprocess.TimeoutExpired:
+        done = False
+    status = (folder / BMC_STATUS).read_text().split() if done else []
+    # write_status: "snl_SAT <cycle>" for a counterexample; "snl_UNK <cycle>", the last cycle
+    # bmc3 cleared, when it found none (the frame's and the one after it: none asserts)
+    verdict = "undecided"
+    if status[:1] == ["snl_SAT"]:
+        verdict = "failed"
+    elif status[:1] == ["snl_UNK"] and len(status) > 1 and int(status[1]) >= window.frame + 1:
+        verdict = "proven"
+    with _verdict_lock:
+        known = json.loads(verdicts.read_text()) if verdicts.exists() else {}
+        known[key] = verdict
+        verdicts.write_text(json.dumps(known, indent=1) + "\n")
+    return verdict
+
+
+def prove_in_window(
+    folder: Path, top: str, design_il: Path, command: str, window: Window,
+    timeout: float = WINDOW_TIMEOUT,
+) -> str:  # fmt: skip
+    """The fifth proof alone of the design ``design_il`` with the mutation ``command`` against
+    the original, in ``folder``: 'outside' (the mutation is not inside ``window``:
+    ``in_window``), else ``prove_window``'s 'proven', 'failed' or 'undecided'."""
+    folder.mkdir(parents=True, exist_ok=True)
+    if not in_window(folder, design_il, command, window):
+        return "outside"
+    original = os.path.relpath(design_il, folder)
+    run_yosys(f"read_rtlil {original}\n{command}\nwrite_rtlil gate.il\n", folder, "mutate")
+    gate = (folder / "gate.il").read_text()
+    return prove_window(folder, top, design_il.read_text(), gate, window, timeout)

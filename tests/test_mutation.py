@@ -19,6 +19,7 @@ the same kills as the record and the rest its survivors.
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 import json
 import math
@@ -28,6 +29,7 @@ from pathlib import Path
 
 import pytest
 
+from model.units import brdf
 from model.units.brdf import FixedConfig
 from sim import (
     mutation,
@@ -440,6 +442,50 @@ def test_k_induction_proves_the_quadratic_form_s_step_condition_mutant(tmp_path:
     assert _fourth(net, QUADRATIC_STEP, tmp_path, given) == "proven"
     assert (tmp_path / mutation_proof.IND_STATUS).read_text().split()[0] == "snl_UNSAT"
     assert not (tmp_path / mutation_proof.PDR_STATUS).exists()
+
+
+# The log2 form's survivors of every check and of the proofs from reset: 2 - e' with a low bit
+# set where the octave e' is 2 (143, bit 1; 277, bit 3), where the original's word is 0 and the
+# mutant's 2 or 8, which no C shows.  A mutation inside the window that the committed set kills
+# (1, a bit of the x register tied to 1) and one in the front before the address register (3)
+WINDOW_PROVEN, WINDOW_KILLED, WINDOW_BEFORE = 143, 1, 3
+
+
+def test_the_window_proves_a_log2_survivor_and_finds_a_killed_mutant_s_counterexample(
+    log2_list: mutation.Netlist, tmp_path: Path
+) -> None:
+    """The fifth proof (``prove_window``) proves 143 with words below ``tiny`` allowed to
+    differ, and finds a counterexample for it with every word compared (its word does change)
+    and for 1, which the committed set kills; 3 lies before the window's address register."""
+    window = log2_list.design.window
+    rec = _record()["designs"]["brdf_unit_log2"]
+    assert str(WINDOW_KILLED) in rec["killed_by"]
+    how = {e["id"]: e["equivalent"] for e in rec["equivalent"]}
+    assert how[WINDOW_PROVEN].startswith("bmc3 over the datapath")
+
+    def prove(mutant: int, given: mutation_proof.Window) -> str:
+        command = log2_list.mutations[mutant - 1].command
+        return mutation_proof.prove_in_window(
+            tmp_path / f"{mutant}_{given.tiny}", "brdf_unit", log2_list.design_il, command, given
+        )
+
+    assert prove(WINDOW_PROVEN, window) == "proven"
+    assert prove(WINDOW_PROVEN, dataclasses.replace(window, tiny=0)) == "failed"
+    assert prove(WINDOW_KILLED, window) == "failed"
+    assert prove(WINDOW_BEFORE, window) == "outside"
+
+
+def test_the_window_s_tiny_word_is_the_rounding_s() -> None:
+    """A word below ``tiny`` shows 0 at every C: C x word is rounded by adding half of the
+    dropped bits' weight 2^(s - 1) (s = C's fraction bits + the word's) and slicing, so the
+    largest C shows 0 exactly while C_max x word < 2^(s - 1): tiny = ceil(2^(s - 1) / C_max)
+    (129 at the defaults: 2^23 / 65535 = 128.002)."""
+    for form in brdf.RTL_FORMS:
+        cfg = brdf.UNIT_CONFIGS[form]
+        a = cfg.angle
+        s = a.c_frac_bits + cfg.out_bits
+        assert mutation_brdf.brdf_window(cfg).tiny == -(-(1 << (s - 1)) // a.c_format.hi), form
+    assert mutation.DESIGNS["brdf_unit_log2"].window.tiny == 129
 
 
 def test_an_asynchronous_rom_port_s_reset_is_unbuildable_and_never_read() -> None:
@@ -902,13 +948,21 @@ def test_the_readme_s_survivor_counts_are_the_record_s() -> None:
     """README.md's `make mutants` row gives the BRDF forms' survivors as the record has them."""
     text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
     found = re.search(
-        r"the BRDF forms have (\d+) left, each one listed there: four forms' (\d+) and the "
-        r"piecewise form's (\d+)",
+        r"the BRDF forms have (\d+) left, each one listed there: (\w+) forms' (\d+) and the "
+        r"piecewise form's (\d+); the (\w+) and (\w+) forms have none",
         text,
     )
     assert found, "README.md's make mutants row no longer gives the BRDF survivors"
     designs = _record()["designs"]
     count = {name: len(designs[name]["survivors"]) for name in BRDF_DESIGNS}
     piecewise = count.pop("brdf_unit_piecewise")
-    assert [int(g) for g in found.groups()] == [sum(count.values()) + piecewise,
-                                                sum(count.values()), piecewise]  # fmt: skip
+    some = [name for name, k in count.items() if k]
+    words = ("one", "two", "three", "four")
+    total, forms, others, pw, none_a, none_b = found.groups()
+    assert [int(total), words.index(forms) + 1, int(others), int(pw)] == [
+        sum(count.values()) + piecewise,
+        len(some),
+        sum(count.values()),
+        piecewise,
+    ]
+    assert sorted(f"brdf_unit_{f}" for f in (none_a, none_b)) == sorted(set(count) - set(some))
