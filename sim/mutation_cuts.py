@@ -269,6 +269,23 @@ def product_cuts(il: str) -> list[tuple[int, int]]:
     return found
 
 
+def full_unsigned_products(il: str) -> list[tuple[int, int] | None]:
+    """Per multiplier ``cut_products`` cuts out of the RTLIL ``il``, in its order: (A bits, B
+    bits) where both operands are unsigned and the product holds every bit of a x b (then
+    a x b <= min(a (2^B - 1), b (2^A - 1)), a bound the window puts on its free product), else
+    None."""
+    cells = sorted(re.findall(r"^\s*cell \$mul (\S+)\n(.*?)^\s*end$", il, re.M | re.S))
+    found: list[tuple[int, int] | None] = []
+    for _name, block in cells:
+        if _by_constant(block):
+            continue
+        params = dict(re.findall(r"^\s*parameter \\(\w+) (\S+)$", block, re.M))
+        a, b, y = (int(params[f"{x}_WIDTH"]) for x in "ABY")
+        signed = int(params["A_SIGNED"]) or int(params["B_SIGNED"])
+        found.append((a, b) if not signed and y >= a + b else None)
+    return found
+
+
 def observed(il: str, top: str, wires: list[str], condition: str) -> str:
     """The RTLIL ``il`` with a wire ``<w>__while_<condition>`` = ``condition ? w : 0`` for
     each wire ``w`` of ``wires``: what ``w`` shows while ``condition`` holds."""

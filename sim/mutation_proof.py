@@ -56,6 +56,7 @@ from sim.mutation_cuts import (
     add_ports,
     cut_products,
     cut_roms,
+    full_unsigned_products,
     invariant_verilog,
     invariant_wires,
     observed,
@@ -129,6 +130,44 @@ def unbuildable(il: str, command: str) -> bool:
 _verdict_lock = threading.Lock()
 
 
+def _known(folder: Path, key: str) -> str | bool | None:
+    """The verdict kept for ``key`` beside ``folder`` (its parent's verdicts.json), or None."""
+    verdicts = folder.parent / "verdicts.json"
+    return (json.loads(verdicts.read_text()) if verdicts.exists() else {}).get(key)
+
+
+def _keep(folder: Path, key: str, verdict: str | bool) -> None:
+    """Keep ``verdict`` for ``key`` beside ``folder`` (a rerun proves nothing twice)."""
+    with _verdict_lock:
+        verdicts = folder.parent / "verdicts.json"
+        known = json.loads(verdicts.read_text()) if verdicts.exists() else {}
+        known[key] = verdict
+        verdicts.write_text(json.dumps(known, indent=1) + "\n")
+
+
+def _yosys_within(folder: Path, script: str, timeout: float) -> bool:
+    """Run the Yosys script file ``script`` in ``folder`` (log ``<script>.log``), stopped after
+    ``timeout`` seconds: whether it ran to its end without an error."""
+    try:
+        ran = subprocess.run(
+            [yosys_exe(), "-q", "-l", f"{script}.log", "-s", script],
+            capture_output=True,
+            text=True,
+            cwd=folder,
+            timeout=timeout,
+        )
+    except subprocess.TimeoutExpired:
+        return False
+    return ran.returncode == 0
+
+
+def _mutant(folder: Path, design_il: Path, command: str) -> str:
+    """The design ``design_il`` with the mutation ``command`` (RTLIL, ``folder``/gate.il)."""
+    original = os.path.relpath(design_il, folder)  # the WebAssembly Yosys: relative paths
+    run_yosys(f"read_rtlil {original}\n{command}\nwrite_rtlil gate.il\n", folder, "mutate")
+    return (folder / "gate.il").read_text()
+
+
 def _prove(folder: Path, top: str, blacklist: list[str], steps: int, timeout: float) -> bool:
     """Every named wire of ``gold_cut.il`` and ``gate_cut.il`` but ``blacklist``'s equal in
     every cycle: ``equiv_make -make_assert`` (an assert per matched wire), then ``sat
@@ -147,11 +186,10 @@ def _prove(folder: Path, top: str, blacklist: list[str], steps: int, timeout: fl
     digest = hashlib.sha256(repr((script, timeout)).encode())
     for name in ("gold_cut.il", "gate_cut.il", "blacklist.txt"):
         digest.update((folder / name).read_bytes())
-    verdicts = folder.parent / "verdicts.json"
-    known = json.loads(verdicts.read_text()) if verdicts.exists() else {}
     key = digest.hexdigest()
-    if key in known:
-        return bool(known[key])
+    cached = _known(folder, key)
+    if cached is not None:
+        return bool(cached)
     try:
         ran = subprocess.run(
             [yosys_exe(), "-q", "-l", "equiv.log", "-s", "equiv.ys"],
@@ -166,10 +204,7 @@ def _prove(folder: Path, top: str, blacklist: list[str], steps: int, timeout: fl
         )
     except subprocess.TimeoutExpired:
         proven = False
-    with _verdict_lock:
-        known = json.loads(verdicts.read_text()) if verdicts.exists() else {}
-        known[key] = proven
-        verdicts.write_text(json.dumps(known, indent=1) + "\n")
+    _keep(folder, key, proven)
     return proven
 
 
@@ -515,26 +550,16 @@ def _prove_from_reset(
     digest = hashlib.sha256(repr((script, timeout, contract)).encode())
     for name in ("gold_reset.il", "gate_reset.il", "miter.v", "pdr.abc", "ind.abc", "pdr.ys"):
         digest.update((folder / name).read_bytes())
-    verdicts = folder.parent / "verdicts.json"
-    known = json.loads(verdicts.read_text()) if verdicts.exists() else {}
     key = digest.hexdigest()
-    if key in known:
-        return str(known[key])
+    cached = _known(folder, key)
+    if cached is not None:
+        return str(cached)
     for name in (PDR_STATUS, REDUCED, IND_STATUS):
         (folder / name).unlink(missing_ok=True)
 
     def run(script: str) -> bool:
-        try:
-            ran = subprocess.run(
-                [yosys_exe(), "-q", "-l", f"{script}.log", "-s", script],
-                capture_output=True,
-                text=True,
-                cwd=folder,
-                timeout=timeout + 60,  # the conversion, scorr, and ABC's own limit overrun
-            )
-        except subprocess.TimeoutExpired:
-            return False
-        return ran.returncode == 0
+        # the conversion, scorr, and ABC's own limit overrun: a minute more
+        return _yosys_within(folder, script, timeout + 60)
 
     # the miter's AIGER (and k-induction, with invariants), then scorr and pdr unless proven
     done = run("reset.ys") and (folder / "miter.aig").exists()
@@ -547,10 +572,7 @@ def _prove_from_reset(
         verdict = {"snl_UNSAT": "proven", "snl_SAT": "failed"}.get(status[0] if status else "", "")
         if not verdict:
             verdict = "proven" if done and _constant_false(folder / REDUCED) else "undecided"
-    with _verdict_lock:
-        known = json.loads(verdicts.read_text()) if verdicts.exists() else {}
-        known[key] = verdict
-        verdicts.write_text(json.dumps(known, indent=1) + "\n")
+    _keep(folder, key, verdict)
     return verdict
 
 
@@ -562,9 +584,7 @@ def prove_from_reset(
     mutation ``command`` against the original, in ``folder``: 'proven', 'failed' or
     'undecided'."""
     folder.mkdir(parents=True, exist_ok=True)
-    original = os.path.relpath(design_il, folder)
-    run_yosys(f"read_rtlil {original}\n{command}\nwrite_rtlil gate.il\n", folder, "mutate")
-    gold, gate = design_il.read_text(), (folder / "gate.il").read_text()
+    gold, gate = design_il.read_text(), _mutant(folder, design_il, command)
     return _prove_from_reset(folder, top, gold, gate, contract, timeout, products, invariants)
 
 
@@ -750,18 +770,24 @@ def power_up_input(il: str, top: str, wire: str) -> str:
     raise ValueError(f"{top} has no flip-flop whose Q is all of {wire}")
 
 
-def window_verilog(ports: dict[str, tuple[str, int]], window: Window, muls: int, idle: str) -> str:
+def window_verilog(
+    ports: dict[str, tuple[str, int]], window: Window, muls: list[tuple[int, int] | None], idle: str
+) -> str:  # fmt: skip
     """The top of the fifth proof: ``gold`` and ``gate``, each from its own power-up state
     (``mutation_init*`` inputs apiece) but ``idle``, which is 0 in both; the inputs of
     ``window.schedule`` held to their expressions of the cycle count ``t`` and every other input
     free and the same in both; a cut multiplier (``cut_products``) gives the mutant the
-    original's product where their operands agree and any value where not.  One assertion: in
-    cycle ``window.frame`` the observed words agree, or both lie below ``window.tiny``."""
+    original's product where their operands agree and any value where not, at most
+    min(a (2^B - 1), b (2^A - 1)) where ``muls`` gives its operands' widths (unsigned, the
+    product whole: ``full_unsigned_products``; a free value above it, which no operands give,
+    is taken as the bound, so every product the operands can give is still one of the
+    miter's).  One assertion: in cycle ``window.frame`` the observed words agree, or both lie
+    below ``window.tiny``."""
     fixed = dict(window.schedule) | {FIRST: "t == 0", idle: "1'b0"}
     inputs = {n: w for n, (d, w) in ports.items() if d == "input" and n not in fixed}
     own = {n for n in inputs if n.startswith(POWER_UP)}
     shared = {n: w for n, w in inputs.items() if n not in own}
-    shared |= {f"{PRODUCT}{k}_other": ports[f"{PRODUCT}{k}_y"][1] for k in range(muls)}
+    shared |= {f"{PRODUCT}{k}_other": ports[f"{PRODUCT}{k}_y"][1] for k in range(len(muls))}
     seen = probe_name(window.observe)
     width = ports[seen][1]
     decls = [f"    input wire [{w - 1}:0] {n}" for n, w in shared.items()]
@@ -772,19 +798,38 @@ def window_verilog(ports: dict[str, tuple[str, int]], window: Window, muls: int,
     lines = ["module mutation_window (", ",\n".join(decls), ");", "    reg [15:0] t = 16'd0;"]
     lines.append(f"    always @(posedge clk) if (t != 16'd{last}) t <= t + 16'd1;")
     lines.append(f"    wire [{width - 1}:0] gold_seen, gate_seen;")
-    for k in range(muls):
-        lines.append(f"    wire [{ports[f'{PRODUCT}{k}_in'][1] - 1}:0] gold_{PRODUCT}{k}_in, "
-                     f"gate_{PRODUCT}{k}_in;")  # fmt: skip
+    products = {}
+    for k, shape in enumerate(muls):
+        name, y = f"{PRODUCT}{k}", ports[f"{PRODUCT}{k}_y"][1]
+        lines.append(f"    wire [{ports[f'{name}_in'][1] - 1}:0] gold_{name}_in, gate_{name}_in;")
+        for copy, free in (("gold", f"{name}_y"), ("gate", f"{name}_other")):
+            got = f"{copy}_{name}_y"
+            if shape is None:
+                lines.append(f"    wire [{y - 1}:0] {got} = {free};")
+                continue
+            a, b = shape
+            ops = f"{copy}_{name}_in"
+            lines += [
+                f"    wire [{a + b - 1}:0] {copy}_{name}_a = {{{b}'d0, {ops}[{a + b - 1}:{b}]}};",
+                f"    wire [{a + b - 1}:0] {copy}_{name}_b = {{{a}'d0, {ops}[{b - 1}:0]}};",
+                f"    wire [{a + b - 1}:0] {copy}_{name}_ab = ({copy}_{name}_a << {b}) - "
+                f"{copy}_{name}_a;",
+                f"    wire [{a + b - 1}:0] {copy}_{name}_ba = ({copy}_{name}_b << {a}) - "
+                f"{copy}_{name}_b;",
+                f"    wire [{a + b - 1}:0] {copy}_{name}_max = {copy}_{name}_ab < {copy}_{name}_ba"
+                f" ? {copy}_{name}_ab : {copy}_{name}_ba;",
+                f"    wire [{y - 1}:0] {got} = {free} > {copy}_{name}_max ? {copy}_{name}_max"
+                f" : {free};",
+            ]
+        products[name] = f"gold_{name}_in == gate_{name}_in ? gold_{name}_y : gate_{name}_y"
     for copy in ("gold", "gate"):
         given = {n: n for n in shared if n in ports} | {n: f"{copy}_{n}" for n in own} | fixed
-        if copy == "gate":
-            given |= {
-                f"{PRODUCT}{k}_y": f"gold_{PRODUCT}{k}_in == gate_{PRODUCT}{k}_in ? "
-                f"{PRODUCT}{k}_y : {PRODUCT}{k}_other"
-                for k in range(muls)
-            }
+        given |= {
+            f"{name}_y": (value if copy == "gate" else f"gold_{name}_y")
+            for name, value in products.items()
+        }
         conns = [f".{n}({v})" for n, v in given.items()] + [f".{seen}({copy}_seen)"]
-        conns += [f".{PRODUCT}{k}_in({copy}_{PRODUCT}{k}_in)" for k in range(muls)]
+        conns += [f".{name}_in({copy}_{name}_in)" for name in products]
         lines.append(f"    {copy} {copy}_copy ({', '.join(conns)});")
     small = f"(gold_seen < {window.tiny} && gate_seen < {window.tiny})" if window.tiny else "1'b0"
     lines += [
@@ -822,7 +867,7 @@ def prove_window(
         return "undecided"
     (folder / "gold_window.il").write_text(gold)
     (folder / "gate_window.il").write_text(gate)
-    miter = window_verilog(ports, window, len(product_cuts(gold_il)), idle)
+    miter = window_verilog(ports, window, full_unsigned_products(gold_il), idle)
     (folder / "window.v").write_text(miter)
     (folder / "abc_host.v").write_text(_ABC_HOST)
     # bmc3 to the cycle after the frame: its status names the last cycle it cleared
@@ -843,35 +888,23 @@ def prove_window(
     digest = hashlib.sha256(repr((script, timeout, window)).encode())
     for name in ("gold_window.il", "gate_window.il", "window.v", "bmc.abc"):
         digest.update((folder / name).read_bytes())
-    verdicts = folder.parent / "verdicts.json"
-    known = json.loads(verdicts.read_text()) if verdicts.exists() else {}
     key = digest.hexdigest()
-    if key in known:
-        return str(known[key])
+    cached = _known(folder, key)
+    if cached is not None:
+        return str(cached)
     (folder / BMC_STATUS).unlink(missing_ok=True)
-    try:
-        ran = subprocess.run(
-            [yosys_exe(), "-q", "-l", "window.log", "-s", "window.ys"],
-            capture_output=True,
-            text=True,
-            cwd=folder,
-            timeout=timeout + 120,  # the conversion, and ABC's own limit overrun
-        )
-        done = ran.returncode == 0 and (folder / BMC_STATUS).exists()
-    except subprocess.TimeoutExpired:
-        done = False
+    # the conversion, and ABC's own limit overrun: two minutes more
+    done = _yosys_within(folder, "window.ys", timeout + 120) and (folder / BMC_STATUS).exists()
     status = (folder / BMC_STATUS).read_text().split() if done else []
-    # write_status: "snl_SAT <cycle>" for a counterexample; "snl_UNK <cycle>", the last cycle
-    # bmc3 cleared, when it found none (the frame's and the one after it: none asserts)
+    # write_status: "snl_SAT ..." for a counterexample (its cycle last); "snl_UNK <cycle>", the
+    # last cycle bmc3 cleared (-F 14 leaves "snl_UNK 13"), when it found none: the frame's
+    # cycle and the one after it cleared, none asserts
     verdict = "undecided"
     if status[:1] == ["snl_SAT"]:
         verdict = "failed"
     elif status[:1] == ["snl_UNK"] and len(status) > 1 and int(status[1]) >= window.frame + 1:
         verdict = "proven"
-    with _verdict_lock:
-        known = json.loads(verdicts.read_text()) if verdicts.exists() else {}
-        known[key] = verdict
-        verdicts.write_text(json.dumps(known, indent=1) + "\n")
+    _keep(folder, key, verdict)
     return verdict
 
 
@@ -885,7 +918,5 @@ def prove_in_window(
     folder.mkdir(parents=True, exist_ok=True)
     if not in_window(folder, design_il, command, window):
         return "outside"
-    original = os.path.relpath(design_il, folder)
-    run_yosys(f"read_rtlil {original}\n{command}\nwrite_rtlil gate.il\n", folder, "mutate")
-    gate = (folder / "gate.il").read_text()
+    gate = _mutant(folder, design_il, command)
     return prove_window(folder, top, design_il.read_text(), gate, window, timeout)
