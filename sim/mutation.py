@@ -48,8 +48,8 @@ docs/verification.md`` puts its table there (``make mutants``).
 tier's subset (tests/test_mutation.py).  ``--ids`` runs the mutants named, ``--survivors`` the
 last result's survivors, and ``--merge`` puts their new outcomes into the design's last
 result.json (``merge``: after a proof is added, only the survivors need to run again);
-``--reset-proof-only`` gives them the proofs from reset alone (their checks and the other
-proofs already found nothing).
+``--reset-proof-only`` gives them the proofs from reset and the window alone (their checks and
+the other proofs already found nothing).
 
 Size: about 560 lines: the list, the netlist, the benches, the checks' order and the record
 are one flow, ``make mutants``, whose parts only it runs.
@@ -612,7 +612,7 @@ def main(argv: list[str] | None = None) -> int:
         "--reset-proof-only",
         action="store_true",
         help="with --merge: the last result's survivors among the mutants run only the proofs "
-        "from reset (their checks and other proofs are in it)",
+        "from reset and the window (their checks and other proofs are in it)",
     )
     args = parser.parse_args(argv)
     if args.reset_proof_only and not args.merge:
