@@ -353,7 +353,7 @@ def brdf_window(cfg: FixedConfig) -> Window:
     tiny = int(np.argmax(shown > 0)) if shown.any() else 1 << cfg.out_bits
     return Window(
         cut="u_front.addr_reg",
-        sources=("u_front.addr_reg", "k_run_reg"),
+        loaded=("k_run_reg",),
         idle="busy_reg",
         schedule=(("rst_n", "1'b1"), ("n_we", "t == 0"), ("start", "t == 1")),
         observe="form_y",

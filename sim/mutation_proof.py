@@ -693,10 +693,11 @@ class Window:
     to the word it computes for that pixel, for the fifth proof (``prove_window``).
 
     ``cut``: the register whose output is replaced by a free input in every cycle (the pixel's
-    angle-table address: every value of it is one the unit can hold).  ``sources``: it and the
-    registers the window's schedule loads (the line's constant word); a mutation upstream of any
-    of them is out of the window's reach.  ``idle``: a control register that starts at 0 in
-    both copies (the unit idle, so the schedule's writes and start are taken).  ``schedule``:
+    angle-table address: every value of it is one the unit can hold).  ``loaded``: the
+    registers the window's schedule loads (the line's constant word); a mutation upstream of
+    them or of ``cut`` is out of the window's reach.  ``idle``: a control register that
+    starts at 0 in both copies (the unit idle, so the schedule's writes and start are taken).
+    ``schedule``:
     inputs held to a Verilog expression of the cycle ``t``; every other input is free in every
     cycle.  ``observe``: the wire the mutation must reach the outputs through, compared in cycle
     ``frame`` only (the pixel whose address was cut in cycle ``frame - latency``).  ``tiny``:
@@ -704,7 +705,7 @@ class Window:
     C x word, and C x (tiny - 1) rounds to 0 at the largest C); 0: every word must agree."""
 
     cut: str
-    sources: tuple[str, ...]
+    loaded: tuple[str, ...]
     idle: str
     schedule: tuple[tuple[str, str], ...]
     observe: str
@@ -721,13 +722,15 @@ BMC_STATUS = "bmc_status.txt"
 
 def in_window(folder: Path, design_il: Path, command: str, window: Window) -> bool:
     """The cell the mutation ``command`` changes lies inside ``window`` (Yosys ``select`` on the
-    original netlist): in no source's fan-in cone, across any number of registers (so the
-    window's free address and its schedule's loads carry whatever the mutant would give them),
-    and reaching no output port but through ``window.observe`` (its fan-out cone, with that
-    wire cut, holds no output)."""
+    original netlist): in the fan-in cone of neither ``cut`` nor a ``loaded`` register, across
+    any number of registers (so the window's free address and its schedule's loads carry
+    whatever the mutant would give them), and reaching no output port but through
+    ``window.observe`` (its fan-out cone, with that wire cut, holds no output)."""
     cell = mutate_field(command, "cell")
     original = os.path.relpath(design_il, folder)
-    upstream = "".join(f"select -assert-none c:{cell} w:{s} %ci* %i\n" for s in window.sources)
+    upstream = "".join(
+        f"select -assert-none c:{cell} w:{s} %ci* %i\n" for s in (window.cut, *window.loaded)
+    )
     try:
         run_yosys(
             f"read_rtlil {original}\nopt_clean\n{upstream}expose -cut w:{window.observe}\n"
