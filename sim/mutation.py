@@ -35,8 +35,9 @@ For each design (the three units and the shading core) at its default configurat
    design's ``contract`` defines them, proven by ABC's ``pdr`` (sim/mutation_proof.py), then
    the same with the multipliers cut and with the invariants of sim/mutation_invariants.py
    asserted alongside (each stage's registers equal in the two copies while its valid bit is
-   set, a mutation's own), and for a mutation inside a BRDF form's datapath a bounded check
-   of that window with the tables' words kept (``Design.window``).  A
+   set, a mutation's own), and for a mutation inside a BRDF form's datapath that window with
+   the tables' words and the multipliers kept, unrolled and swept over every n and address
+   (``Design.window``).  A
    proven mutant is *equivalent* (no test can kill it); one neither killed nor proven is a
    *survivor*.
 

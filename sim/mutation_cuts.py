@@ -269,21 +269,26 @@ def product_cuts(il: str) -> list[tuple[int, int]]:
     return found
 
 
-def full_unsigned_products(il: str) -> list[tuple[int, int] | None]:
-    """Per multiplier ``cut_products`` cuts out of the RTLIL ``il``, in its order: (A bits, B
-    bits) where both operands are unsigned and the product holds every bit of a x b (then
-    a x b <= min(a (2^B - 1), b (2^A - 1)), a bound the window puts on its free product), else
-    None."""
-    cells = sorted(re.findall(r"^\s*cell \$mul (\S+)\n(.*?)^\s*end$", il, re.M | re.S))
-    found: list[tuple[int, int] | None] = []
-    for _name, block in cells:
-        if _by_constant(block):
-            continue
+def roms_filled(il: str) -> str:
+    """The RTLIL ``il`` with each ROM (a ``$mem_v2`` without write ports) that holds fewer
+    words than its address reaches (a table of 2000 words on 11 address bits) given the rest
+    as 0 words, so that mapped to logic it reads a word at every address, not ``x``: for a
+    proof in which the table is read only at the addresses the unit gives it."""
+
+    def filled(m: re.Match[str]) -> str:
+        block = m.group(0)
         params = dict(re.findall(r"^\s*parameter \\(\w+) (\S+)$", block, re.M))
-        a, b, y = (int(params[f"{x}_WIDTH"]) for x in "ABY")
-        signed = int(params["A_SIGNED"]) or int(params["B_SIGNED"])
-        found.append((a, b) if not signed and y >= a + b else None)
-    return found
+        if params.get("WR_PORTS") != "0" or params.get("OFFSET", "0") != "0":
+            return block
+        width, size, words = int(params["WIDTH"]), int(params["SIZE"]), 1 << int(params["ABITS"])
+        init = re.search(r"^(\s*parameter \\INIT )(\d+)'([01x]+)$", block, re.M)
+        if size >= words or init is None or int(init.group(2)) != width * size:
+            return block
+        bits = "0" * (width * (words - size)) + init.group(3)
+        block = block.replace(init.group(0), f"{init.group(1)}{len(bits)}'{bits}", 1)
+        return re.sub(r"^(\s*parameter \\SIZE )\d+$", rf"\g<1>{words}", block, count=1, flags=re.M)
+
+    return re.sub(r"^\s*cell \$mem_v2 \S+\n.*?^\s*end$", filled, il, flags=re.M | re.S)
 
 
 def observed(il: str, top: str, wires: list[str], condition: str) -> str:

@@ -26,8 +26,10 @@ The ROM tables are cut out of both designs (``cut_roms``).  Five kinds of proof
   design's stronger set (the BRDF unit's other registers equal in every cycle).
 * A window of a unit's datapath (``Window``, ``prove_window``): the two designs from two
   unrelated arbitrary states, the pixel's table address free, the line's constant loaded
-  from the tables, whose words are kept, the word the window computes compared in the cycle
-  it is ready by ABC's ``bmc3``: what holds only for the tables' words.
+  from the tables, whose words are kept, as are the multipliers, the word the window computes
+  compared in the cycle it is ready: the miter unrolled by ABC to that cycle, then evaluated
+  on every assignment of the few inputs its cone reads (sim/aiger_eval.py): what holds only
+  for the tables' words and the products they give.
 
 A verdict is kept per folder for the same netlists and script.
 
@@ -49,6 +51,7 @@ import threading
 from dataclasses import dataclass
 from pathlib import Path
 
+from sim.aiger_eval import Aig, first_one, read_aiger, support
 from sim.gate import yosys_exe
 from sim.mutation_cuts import (
     PROBE,
@@ -56,7 +59,6 @@ from sim.mutation_cuts import (
     add_ports,
     cut_products,
     cut_roms,
-    full_unsigned_products,
     invariant_verilog,
     invariant_wires,
     observed,
@@ -64,6 +66,7 @@ from sim.mutation_cuts import (
     probed,
     product_cuts,
     rom_reads,
+    roms_filled,
 )
 
 
@@ -673,16 +676,15 @@ def equivalence(
             also = f", with {len(given)} invariants proven alongside" if given else ""
             engine = "k-induction (ind) or scorr and pdr" if given else "scorr and pdr"
             return f"{engine} from reset, {cut} cut{also}: {outputs}"
-    if (
-        window is not None
-        and in_window(folder, design_il, command, window)
-        and prove_window(folder, top, gold, gate, window) == "proven"
-    ):
-        small = f", or both below {window.tiny}" if window.tiny else ""
-        return (
-            f"bmc3 over the datapath from two arbitrary states, tables kept, multipliers "
-            f"cut: {window.observe} equal{small}, for every address and line word"
-        )
+    if window is not None and in_window(folder, design_il, command, window):
+        verdict, inputs = prove_window(folder, top, gold, gate, window)
+        if verdict == "proven":
+            small = f", or both below {window.tiny}" if window.tiny else ""
+            return (
+                f"every address and line word swept ({inputs} inputs) through the datapath "
+                f"unrolled from two arbitrary states, tables and multipliers kept: "
+                f"{window.observe} equal{small}"
+            )
     return None
 
 
@@ -715,9 +717,10 @@ class Window:
 
 # The cut wire's free input, and its old driver's output (left unread)
 WINDOW_CUT = "mutation_cut"
-# Seconds given to ABC's bmc3 on a window
-WINDOW_TIMEOUT = 120.0
-BMC_STATUS = "bmc_status.txt"
+# Seconds given to each Yosys and ABC run of a window's proof
+WINDOW_TIMEOUT = 300.0
+# The most inputs an unrolled miter's cone may read to be swept (2^24 assignments)
+WINDOW_SUPPORT = 24
 
 
 def in_window(folder: Path, design_il: Path, command: str, window: Window) -> bool:
@@ -773,24 +776,16 @@ def power_up_input(il: str, top: str, wire: str) -> str:
     raise ValueError(f"{top} has no flip-flop whose Q is all of {wire}")
 
 
-def window_verilog(
-    ports: dict[str, tuple[str, int]], window: Window, muls: list[tuple[int, int] | None], idle: str
-) -> str:  # fmt: skip
+def window_verilog(ports: dict[str, tuple[str, int]], window: Window, idle: str) -> str:
     """The top of the fifth proof: ``gold`` and ``gate``, each from its own power-up state
     (``mutation_init*`` inputs apiece) but ``idle``, which is 0 in both; the inputs of
     ``window.schedule`` held to their expressions of the cycle count ``t`` and every other input
-    free and the same in both; a cut multiplier (``cut_products``) gives the mutant the
-    original's product where their operands agree and any value where not, at most
-    min(a (2^B - 1), b (2^A - 1)) where ``muls`` gives its operands' widths (unsigned, the
-    product whole: ``full_unsigned_products``; a free value above it, which no operands give,
-    is taken as the bound, so every product the operands can give is still one of the
-    miter's).  One assertion: in cycle ``window.frame`` the observed words agree, or both lie
-    below ``window.tiny``."""
+    free and the same in both.  One assertion: in cycle ``window.frame`` the observed words
+    agree, or both lie below ``window.tiny``."""
     fixed = dict(window.schedule) | {FIRST: "t == 0", idle: "1'b0"}
     inputs = {n: w for n, (d, w) in ports.items() if d == "input" and n not in fixed}
     own = {n for n in inputs if n.startswith(POWER_UP)}
     shared = {n: w for n, w in inputs.items() if n not in own}
-    shared |= {f"{PRODUCT}{k}_other": ports[f"{PRODUCT}{k}_y"][1] for k in range(len(muls))}
     seen = probe_name(window.observe)
     width = ports[seen][1]
     decls = [f"    input wire [{w - 1}:0] {n}" for n, w in shared.items()]
@@ -801,38 +796,9 @@ def window_verilog(
     lines = ["module mutation_window (", ",\n".join(decls), ");", "    reg [15:0] t = 16'd0;"]
     lines.append(f"    always @(posedge clk) if (t != 16'd{last}) t <= t + 16'd1;")
     lines.append(f"    wire [{width - 1}:0] gold_seen, gate_seen;")
-    products = {}
-    for k, shape in enumerate(muls):
-        name, y = f"{PRODUCT}{k}", ports[f"{PRODUCT}{k}_y"][1]
-        lines.append(f"    wire [{ports[f'{name}_in'][1] - 1}:0] gold_{name}_in, gate_{name}_in;")
-        for copy, free in (("gold", f"{name}_y"), ("gate", f"{name}_other")):
-            got = f"{copy}_{name}_y"
-            if shape is None:
-                lines.append(f"    wire [{y - 1}:0] {got} = {free};")
-                continue
-            a, b = shape
-            ops = f"{copy}_{name}_in"
-            lines += [
-                f"    wire [{a + b - 1}:0] {copy}_{name}_a = {{{b}'d0, {ops}[{a + b - 1}:{b}]}};",
-                f"    wire [{a + b - 1}:0] {copy}_{name}_b = {{{a}'d0, {ops}[{b - 1}:0]}};",
-                f"    wire [{a + b - 1}:0] {copy}_{name}_ab = ({copy}_{name}_a << {b}) - "
-                f"{copy}_{name}_a;",
-                f"    wire [{a + b - 1}:0] {copy}_{name}_ba = ({copy}_{name}_b << {a}) - "
-                f"{copy}_{name}_b;",
-                f"    wire [{a + b - 1}:0] {copy}_{name}_max = {copy}_{name}_ab < {copy}_{name}_ba"
-                f" ? {copy}_{name}_ab : {copy}_{name}_ba;",
-                f"    wire [{y - 1}:0] {got} = {free} > {copy}_{name}_max ? {copy}_{name}_max"
-                f" : {free};",
-            ]
-        products[name] = f"gold_{name}_in == gate_{name}_in ? gold_{name}_y : gate_{name}_y"
     for copy in ("gold", "gate"):
-        given = {n: n for n in shared if n in ports} | {n: f"{copy}_{n}" for n in own} | fixed
-        given |= {
-            f"{name}_y": (value if copy == "gate" else f"gold_{name}_y")
-            for name, value in products.items()
-        }
+        given = {n: n for n in shared} | {n: f"{copy}_{n}" for n in own} | fixed
         conns = [f".{n}({v})" for n, v in given.items()] + [f".{seen}({copy}_seen)"]
-        conns += [f".{name}_in({copy}_{name}_in)" for name in products]
         lines.append(f"    {copy} {copy}_copy ({', '.join(conns)});")
     small = f"(gold_seen < {window.tiny} && gate_seen < {window.tiny})" if window.tiny else "1'b0"
     lines += [
@@ -843,23 +809,61 @@ def window_verilog(
     return "\n".join(lines)
 
 
+def _unrolled(folder: Path, top: str, miter: str, frames: int, timeout: float) -> Aig | None:
+    """The fifth proof's miter ``miter`` (Verilog, ``window_verilog``) over
+    ``gold_window.il`` and ``gate_window.il`` in ``folder``, unrolled by ABC over ``frames``
+    cycles from its initial values (``frames -i``) to the cone of its one output
+    (``window_cone.aig``), or None if Yosys and ABC overran ``timeout`` seconds."""
+    (folder / "window.v").write_text(miter)
+    (folder / "abc_host.v").write_text(_ABC_HOST)
+    cone = folder / "window_cone.aig"
+    (folder / "window.abc").write_text(
+        f"backup\nread_aiger window.aig\nstrash\nframes -F {frames} -i\nstrash\norpos\n"
+        f"cone -O 0\nstrash\nwrite_aiger {cone.name}\nrestore\n"
+    )
+    (folder / "window.ys").write_text(
+        f"read_rtlil gold_window.il\nrename {top} gold\nread_rtlil gate_window.il\n"
+        f"rename {top} gate\nread_verilog -formal window.v\nhierarchy -top mutation_window\n"
+        "proc\nchformal -lower\nflatten\nmemory_map\n"
+        "techmap\nsetundef -undriven -anyseq\nopt -fast -keepdc\ndffunmap\naigmap\nopt_clean\n"
+        "write_aiger -zinit window.aig\ndesign -reset\nread_verilog abc_host.v\n"
+        "hierarchy -top mutation_abc_host\nproc\ntechmap\nabc -script window.abc\n"
+    )
+    cone.unlink(missing_ok=True)
+    if not _yosys_within(folder, "window.ys", timeout) or not cone.exists():
+        return None
+    return read_aiger(cone)
+
+
+# What prove_window does, in the key of its verdicts (a change of method runs them again)
+_WINDOW_METHOD = "unrolled by ABC frames -i, the cone swept (sim/aiger_eval.py), its inputs counted"
+
+
 def prove_window(
     folder: Path, top: str, gold_il: str, gate_il: str, window: Window,
     timeout: float = WINDOW_TIMEOUT,
-) -> str:  # fmt: skip
-    """The fifth proof: the original ``gold_il`` and the mutant ``gate_il`` (RTLIL, ROMs kept:
-    their words are the design's) through ``window``, bounded: ABC's ``bmc3`` over cycles 0 ..
-    ``window.frame`` of ``window_verilog``'s miter, the multipliers cut (``cut_products``).
-    From two unrelated arbitrary states, with the line's constant loaded by the schedule and
-    the pixel's address free: what the observed word is in that cycle is a function of the
-    window's inputs alone where no register older than the window reaches it, and where one
-    does, the check covers every value it can hold, in each copy apart.  'proven' (no cycle up
-    to ``frame`` asserts), 'failed' (``bmc_cex.txt``) or 'undecided' (time out).  A verdict is
-    kept for the same netlists, script and time limit."""
+) -> tuple[str, int]:  # fmt: skip
+    """The fifth proof: the original ``gold_il`` and the mutant ``gate_il`` (RTLIL, ROMs and
+    multipliers kept: the tables' words and the products are the design's; a table's words
+    beyond its image 0, ``roms_filled``) through ``window``: ``window_verilog``'s miter
+    unrolled by ABC over cycles 0 .. ``window.frame`` (``_unrolled``) to one output, the
+    assertion's, whose cone is swept over every assignment of the inputs it reads
+    (``first_one``, sim/aiger_eval.py).  From two unrelated arbitrary states, with the line's
+    word loaded by the schedule and the pixel's address free: an input the cone does not read
+    (a power-up state, another cycle's input) cannot change the observed word in that cycle,
+    so the sweep decides it for every value of everything else.  'proven', 'failed' (the
+    first assignment that asserts, in ``window_cex.txt``) or 'undecided' (the cone reads more
+    than ``WINDOW_SUPPORT`` inputs, or Yosys and ABC overran ``timeout`` seconds), with the
+    number of inputs the cone reads (0 where it was not built).  A verdict is kept for the
+    same netlists, window and method.
+
+    The tables' filling is sound for a mutation in the window (``in_window``): a table's
+    address logic then lies upstream of the loaded registers or of the cut one, the same in
+    both copies, and reads only the addresses the unit gives it (the coefficient table's 2000
+    words at 2 (n - 1) and 2 (n - 1) + 1, n - 1 < 1000, of the 2048 its address reaches)."""
 
     def prepared(il: str, name: str) -> tuple[str, str]:
-        text = _memories_mapped(folder, cut_products(il), name)
-        text = cut_register(text, top, window.cut)
+        text = cut_register(_memories_mapped(folder, roms_filled(il), name), top, window.cut)
         idle = power_up_input(text, top, window.idle)
         return probed(shared_power_up(text, top), top, [window.observe]), idle
 
@@ -867,59 +871,41 @@ def prove_window(
     gate, idle_gate = prepared(gate_il, "gate")
     ports = _port_widths(gold, top)
     if ports != _port_widths(gate, top) or idle != idle_gate:
-        return "undecided"
+        return "undecided", 0
     (folder / "gold_window.il").write_text(gold)
     (folder / "gate_window.il").write_text(gate)
-    miter = window_verilog(ports, window, full_unsigned_products(gold_il), idle)
-    (folder / "window.v").write_text(miter)
-    (folder / "abc_host.v").write_text(_ABC_HOST)
-    # bmc3 to the cycle after the frame: its status names the last cycle it cleared
-    frames = window.frame + 2
-    (folder / "bmc.abc").write_text(
-        f"backup\nread_aiger window.aig\nstrash\nbmc3 -F {frames} -T {max(1, int(timeout))}\n"
-        f"write_status {BMC_STATUS}\nwrite_cex -a bmc_cex.txt\nrestore\n"
-    )
-    script = (
-        f"read_rtlil gold_window.il\nrename {top} gold\nread_rtlil gate_window.il\n"
-        f"rename {top} gate\nread_verilog -formal window.v\nhierarchy -top mutation_window\n"
-        "proc\nchformal -lower\nflatten\nmemory_map\n"
-        "techmap\nsetundef -undriven -anyseq\nopt -fast -keepdc\ndffunmap\naigmap\nopt_clean\n"
-        "write_aiger -zinit window.aig\ndesign -reset\nread_verilog abc_host.v\n"
-        "hierarchy -top mutation_abc_host\nproc\ntechmap\nabc -script bmc.abc\n"
-    )
-    (folder / "window.ys").write_text(script)
-    digest = hashlib.sha256(repr((script, timeout, window)).encode())
-    for name in ("gold_window.il", "gate_window.il", "window.v", "bmc.abc"):
-        digest.update((folder / name).read_bytes())
+    miter = window_verilog(ports, window, idle)
+    digest = hashlib.sha256(repr((_WINDOW_METHOD, WINDOW_SUPPORT, window, miter)).encode())
+    digest.update(gold.encode())
+    digest.update(gate.encode())
     key = digest.hexdigest()
     cached = _known(folder, key)
     if cached is not None:
-        return str(cached)
-    (folder / BMC_STATUS).unlink(missing_ok=True)
-    # the conversion, and ABC's own limit overrun: two minutes more
-    done = _yosys_within(folder, "window.ys", timeout + 120) and (folder / BMC_STATUS).exists()
-    status = (folder / BMC_STATUS).read_text().split() if done else []
-    # write_status: "snl_SAT ..." for a counterexample (its cycle last); "snl_UNK <cycle>", the
-    # last cycle bmc3 cleared (-F 14 leaves "snl_UNK 13"), when it found none: the frame's
-    # cycle and the one after it cleared, none asserts
+        verdict, inputs = str(cached).split()
+        return verdict, int(inputs)
+    cone = _unrolled(folder, top, miter, window.frame + 1, timeout)
+    inputs = len(support(cone)) if cone is not None else 0
     verdict = "undecided"
-    if status[:1] == ["snl_SAT"]:
-        verdict = "failed"
-    elif status[:1] == ["snl_UNK"] and len(status) > 1 and int(status[1]) >= window.frame + 1:
-        verdict = "proven"
-    _keep(folder, key, verdict)
-    return verdict
+    if cone is not None and inputs <= WINDOW_SUPPORT:
+        found = first_one(cone, limit=WINDOW_SUPPORT)
+        verdict = "proven" if found is None else "failed"
+        if found is not None:
+            (folder / "window_cex.txt").write_text(
+                "".join(f"unrolled input {v}: {bit}\n" for v, bit in found.items())
+            )
+    _keep(folder, key, f"{verdict} {inputs}")
+    return verdict, inputs
 
 
 def prove_in_window(
     folder: Path, top: str, design_il: Path, command: str, window: Window,
     timeout: float = WINDOW_TIMEOUT,
-) -> str:  # fmt: skip
+) -> tuple[str, int]:  # fmt: skip
     """The fifth proof alone of the design ``design_il`` with the mutation ``command`` against
-    the original, in ``folder``: 'outside' (the mutation is not inside ``window``:
-    ``in_window``), else ``prove_window``'s 'proven', 'failed' or 'undecided'."""
+    the original, in ``folder``: ('outside', 0) (the mutation is not inside ``window``:
+    ``in_window``), else ``prove_window``'s verdict and the inputs its cone reads."""
     folder.mkdir(parents=True, exist_ok=True)
     if not in_window(folder, design_il, command, window):
-        return "outside"
+        return "outside", 0
     gate = _mutant(folder, design_il, command)
     return prove_window(folder, top, design_il.read_text(), gate, window, timeout)

@@ -2,28 +2,22 @@
 """make mutants (sim/mutation.py): Yosys ``mutate`` lists of every design, each mutant through
 the committed vector sets and the stronger checks, survivors proven equivalent or counted.
 
-Quick tier: a fixed sample of the divider's and the Gouraud unit's lists (``SAMPLE`` mutants
-spread evenly over the ones the record says are killed) through the same netlist and bench:
-mutant 0, the original, passes every check (``run_design`` stops otherwise), every sampled
-mutant is killed, by the check the record names, and the list Yosys makes now is the one the
-record was made from.  The docs' table is the record's.  The proof from reset
-(``mutation_proof.prove_from_reset``) finds a counterexample for a Gouraud mutant a check kills
-and proves the survivor of the other proofs the record says it proves; the fourth proof (the
-multipliers cut, then invariants asserted alongside) does the same on the specular unit's
-list, and an invariant the original breaks gives a counterexample.  Slow tier: the Gouraud
-unit's 174 proven with its invariants, and every
-mutant of every list the record does not prove equivalent through the checks (the specular
-unit's and the core's netlists take minutes to build, so they have no sample of their own),
-the same kills as the record and the rest its survivors.
+Quick tier: a fixed sample of the divider's, the Gouraud unit's and each BRDF form's lists
+(``SAMPLE`` mutants spread evenly over the ones the record says are killed) through the same
+netlist and bench: mutant 0, the original, passes every check (``run_design`` stops
+otherwise), every sampled mutant is killed, by the check the record names, and the list Yosys
+makes now is the one the record was made from.  The docs' table and the README's counts are
+the record's; the stronger checks' stimuli do what their names say.  Slow tier: every mutant
+of every list the record does not prove equivalent through the checks (the specular unit's
+and the core's netlists take minutes to build, so they have no sample of their own), the same
+kills as the record and the rest its survivors.  The proofs' own tests:
+tests/test_mutation_proof.py.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import hashlib
-import json
 import math
-import os
 import re
 from pathlib import Path
 
@@ -35,27 +29,13 @@ from sim import (
     mutation,
     mutation_brdf,
     mutation_checks,
-    mutation_cuts,
-    mutation_invariants,
-    mutation_proof,
     mutation_report,
-    mutation_stages,
     units,
     vector_sets,
 )
-from sim.runner import SIM_BUILD
+from tests.mutation_common import BRDF_DESIGNS, BUILD, DOC, record
 
-ROOT = Path(__file__).resolve().parent.parent
-DOC = ROOT / "docs" / "verification.md"
 SAMPLE = 12
-# builds kept between runs (the netlists are the same while the RTL is: a cache hit), one
-# folder per pytest-xdist worker: ``mutation.prepare`` writes a design's folder afresh, so two
-# workers preparing the same design in one folder would delete each other's files
-BUILD = SIM_BUILD / "mutants" / os.environ.get("PYTEST_XDIST_WORKER", "main")
-
-
-def _record() -> dict:
-    return json.loads(mutation.RECORD.read_text())
 
 
 # The units' and the core's lists run whole in the slow tier (the specular unit's and the
@@ -65,12 +45,11 @@ def _record() -> dict:
 # minutes, more than the 20 minutes CI has for everything leave; each form's netlist builds in
 # seconds, so its sample runs here.
 WHOLE = ["divider_shift", "gouraud_segment", "specular_unit", "shading_core"]
-BRDF_DESIGNS = [name for name, d in mutation.DESIGNS.items() if d.top == "brdf_unit"]
 
 
 @pytest.mark.parametrize("design", ["divider_shift", "gouraud_segment", *BRDF_DESIGNS])
 def test_sampled_mutants_are_killed(design: str) -> None:
-    rec = _record()["designs"][design]
+    rec = record()["designs"][design]
     ids = mutation.quick_sample(rec, SAMPLE)
     assert len(ids) == SAMPLE
     report = mutation.run_design(mutation.DESIGNS[design], ids, jobs=2, out=BUILD, prove=False)
@@ -83,7 +62,7 @@ def test_sampled_mutants_are_killed(design: str) -> None:
 
 
 def test_the_record_holds_every_design() -> None:
-    rec = _record()
+    rec = record()
     assert rec["seed"] == mutation.SEED and rec["list_size"] == mutation.LIST_SIZE
     assert set(rec["designs"]) == set(mutation.DESIGNS)
 
@@ -93,7 +72,7 @@ def test_the_record_is_current(name: str) -> None:
     """docs/mutants.json's record of the design was made from the netlist its sources, ROM
     images and parameters prepare to now, and so from the same list (remake it: make
     mutants)."""
-    designs = _record()["designs"]
+    designs = record()["designs"]
     if name not in designs:
         pytest.fail(f"docs/mutants.json has no record of {name}: make mutants")
     rec = designs[name]
@@ -119,8 +98,8 @@ def test_the_docs_table_is_the_record_s() -> None:
     """docs/verification.md carries the table sim/mutation.py prints for the record, and its
     list of the equivalent mutants and survivors."""
     text = DOC.read_text()
-    assert mutation_report.table(_record()) in text
-    assert mutation_report.listing(_record()) in text
+    assert mutation_report.table(record()) in text
+    assert mutation_report.listing(record()) in text
 
 
 def test_every_design_runs_whole_in_the_slow_tier_or_make_mutants() -> None:
@@ -134,7 +113,7 @@ def test_the_whole_list_gives_the_record_s_figures(name: str) -> None:
     a check, and running it through all of them, the 4M-cycle soak last, is most of the
     time): each killed by the check the record names, the rest exactly the record's
     survivors."""
-    designs = _record()["designs"]
+    designs = record()["designs"]
     if name not in designs:
         pytest.fail(f"docs/mutants.json has no record of {name}: make mutants")
     rec = designs[name]
@@ -146,50 +125,6 @@ def test_the_whole_list_gives_the_record_s_figures(name: str) -> None:
     assert got == rec["killed_by"], name
     alive = sorted(o.id for o in report.outcomes if not o.killed_by)
     assert alive == sorted(o["id"] for o in rec["survivors"])
-
-
-# The from-reset proof (mutation_proof.prove_from_reset) on the Gouraud unit's list: a mutant
-# the record says a check kills (15: by a soak, after the committed set passed it) and a
-# survivor of the other proofs the record has it prove (33: seg_reg bit 8, dead because a line
-# has at most 256 segments), a few seconds each
-FROM_RESET_KILLED, FROM_RESET_PROVEN = 15, 33
-
-
-@pytest.fixture(scope="module")
-def gouraud_list() -> mutation.Netlist:
-    return mutation.prepare(mutation.DESIGNS["gouraud_segment"], BUILD)
-
-
-def test_the_from_reset_proof_finds_a_killed_mutant_s_counterexample(
-    gouraud_list: mutation.Netlist, tmp_path: Path
-) -> None:
-    """Sound: a mutant a check kills is not proven, pdr finds the trace from reset that tells
-    it from the original."""
-    rec = _record()["designs"]["gouraud_segment"]
-    assert rec["killed_by"][str(FROM_RESET_KILLED)] != rec["vector_set"]
-    design = mutation.DESIGNS["gouraud_segment"]
-    command = gouraud_list.mutations[FROM_RESET_KILLED - 1].command
-    verdict = mutation_proof.prove_from_reset(
-        tmp_path / "killed", design.top, gouraud_list.design_il, command, design.contract, 60
-    )
-    assert verdict == "failed"
-
-
-def test_the_from_reset_proof_proves_a_survivor_of_the_others(
-    gouraud_list: mutation.Netlist, tmp_path: Path
-) -> None:
-    """The record's mutant it proves: equal from reset, where no proof from any shared state
-    can show it (the bound on seg_reg holds only in the states a reset leads to)."""
-    rec = _record()["designs"]["gouraud_segment"]
-    (listed,) = [o for o in rec["equivalent"] if o["id"] == FROM_RESET_PROVEN]
-    assert listed["equivalent"].startswith("scorr and pdr from reset")
-    design = mutation.DESIGNS["gouraud_segment"]
-    command = gouraud_list.mutations[FROM_RESET_PROVEN - 1].command
-    assert command == listed["command"]
-    verdict = mutation_proof.prove_from_reset(
-        tmp_path / "proven", design.top, gouraud_list.design_il, command, design.contract, 60
-    )
-    assert verdict == "proven"
 
 
 def test_operand_bit_jobs_show_every_bit_of_the_divider_s_operands() -> None:
@@ -215,7 +150,7 @@ def test_operand_bit_jobs_show_every_bit_of_the_divider_s_operands() -> None:
 def test_the_record_round_trips_through_a_report() -> None:
     """``report_from_record`` (what ``--merge --record`` merges into on a fresh clone) gives
     back every outcome, count and digest of the record: written again, the same record."""
-    rec = _record()
+    rec = record()
     for name, entry in rec["designs"].items():
         commands = [f"mutant {i}" for i in range(1, entry["mutants"] + 1)]
         again = mutation.record([mutation.report_from_record(rec, name, commands)])
@@ -304,295 +239,6 @@ def test_highlight_spans_stay_in_the_highlight() -> None:
         assert min(r["c"], *(r[f"diff_c{ch}"] for ch in range(core.CHANNELS))) >= c_hi - c_hi // 4
 
 
-def test_a_rom_port_at_a_constant_address_reads_its_word(tmp_path: Path) -> None:
-    """``cut_roms`` cuts every read port, and one whose address is a constant reads the
-    table's word there (the core's read of n = 1's a) where the others read the cut's input:
-    the word is what a proof of the diffuse path may rely on, and no other word is."""
-    (tmp_path / "rom.v").write_text(
-        "module rom (input wire [1:0] addr, output wire [7:0] q, output wire [7:0] q0);\n"
-        "reg [7:0] mem [0:3];\n"
-        "initial begin mem[0] = 8'h5a; mem[1] = 8'h01; mem[2] = 8'h02; mem[3] = 8'h03; end\n"
-        "assign q = mem[addr];\nassign q0 = mem[2'd0];\nendmodule\n"
-    )
-    mutation_proof.run_yosys(
-        "read_verilog rom.v\nprep -top rom\nmemory_collect\nwrite_rtlil rom.il\n", tmp_path, "rom"
-    )
-    cut = mutation_cuts.cut_roms((tmp_path / "rom.il").read_text())
-    assert "$mem_v2" not in cut
-    (data,) = [ln for ln in cut.splitlines() if "connect" in ln and "mutation_rom0_data" in ln]
-    # RD_DATA is { q0 q } (port 1, at address 0, then port 0): q0 the word 0x5a, q the input
-    assert data.endswith("{ \\q0 \\q } { 8'01011010 \\mutation_rom0_data [7:0] }"), data
-
-
-# The fourth proof (from reset, the multipliers cut, then the invariants of
-# sim/mutation_invariants.py asserted alongside) on the specular unit's list: survivors of the
-# third it proves (65: the accumulator's bit 0 set while it holds, after the line's last pixel;
-# 263: the accumulator stepping once more after it, proven with the stage invariants) and a
-# mutant the committed set kills (3), a few seconds each
-CUT_PROVEN, STAGED_PROVEN, CUT_KILLED = 65, 263, 3
-
-
-@pytest.fixture(scope="module")
-def specular_list() -> mutation.Netlist:
-    return mutation.prepare(mutation.DESIGNS["specular_unit"], BUILD)
-
-
-def _fourth(net: mutation.Netlist, mutant: int, folder: Path, invariants: tuple[str, ...]) -> str:
-    design = net.design
-    command = net.mutations[mutant - 1].command
-    return mutation_proof.prove_from_reset(
-        folder, design.top, net.design_il, command, design.contract, 60, True, invariants
-    )
-
-
-def test_the_product_cut_proves_a_survivor_and_finds_a_killed_mutant_s_counterexample(
-    specular_list: mutation.Netlist, tmp_path: Path
-) -> None:
-    """With both multipliers cut (``cut_products``: the mutant's product is the original's
-    where their operands agree), pdr proves 65, which it left undecided through the
-    products, and still finds the trace from reset that tells 3 from the original."""
-    rec = _record()["designs"]["specular_unit"]
-    assert str(CUT_KILLED) in rec["killed_by"]
-    assert _fourth(specular_list, CUT_PROVEN, tmp_path / "proven", ()) == "proven"
-    assert _fourth(specular_list, CUT_KILLED, tmp_path / "killed", ()) == "failed"
-    for name in ("proven", "killed"):
-        miter = (tmp_path / name / "miter.v").read_text()
-        assert "gold_mutation_mul0_in == gate_mutation_mul0_in ?" in miter
-        assert "$mul" not in (tmp_path / name / "gold_reset.il").read_text()
-
-
-def test_the_stage_invariants_prove_a_survivor_and_find_a_killed_mutant_s_counterexample(
-    specular_list: mutation.Netlist, tmp_path: Path
-) -> None:
-    """The specular unit's stage invariants (each stage's registers equal in the two copies
-    while its valid bit is set), asserted with the outputs: 263, which pdr leaves undecided
-    without them, proven; 3 still fails."""
-    stages = mutation_invariants.DESIGN["specular_unit"]
-    assert _fourth(specular_list, STAGED_PROVEN, tmp_path / "proven", stages) == "proven"
-    assert _fourth(specular_list, CUT_KILLED, tmp_path / "killed", stages) == "failed"
-
-
-def test_the_stages_found_in_a_netlist_are_the_specular_unit_s_own(
-    specular_list: mutation.Netlist,
-) -> None:
-    """The stage analysis (sim/mutation_stages.py, which gives the BRDF unit's stage
-    invariants) finds in the specular unit's netlist the stages its hand-written list names
-    (``SPECULAR_STAGES``), register for register: its ROM-12 word ``rom12_q`` is the ROM's read
-    register ``u_rom12.q_a_reg``, each whole register one bit range."""
-
-    def by_stage(invariants: tuple[str, ...]) -> list[set[str]]:
-        return [
-            {
-                re.sub(r"\[[\d:]+\]$", "", w)
-                for w in re.findall(r"gold:([\w.]+(?:\[[\d:]+\])?) ==", i)
-            }
-            for i in invariants
-        ]
-
-    il = specular_list.design_il.read_text()
-    found = by_stage(mutation_stages.staged_invariants(il, "specular_unit", "acc_reg", "v_reg"))
-    hand = by_stage(mutation_invariants.SPECULAR_STAGES)
-    hand = [{"u_rom12.q_a_reg" if r == "rom12_q" else r for r in regs} for regs in hand]
-    assert found == hand
-
-
-@pytest.fixture(scope="module")
-def log2_list() -> mutation.Netlist:
-    return mutation.prepare(mutation.DESIGNS["brdf_unit_log2"], BUILD)
-
-
-# The BRDF unit's log2 form: its step condition tied true (64: the accumulator steps once more
-# after a line's last pixel, a survivor of the stage invariants alone) and a bit of its step
-# tied to 0 (43, which its committed set kills)
-STEP_PROVEN, STEP_KILLED = 64, 43
-
-
-def test_the_unstaged_equalities_prove_a_step_condition_mutant_and_find_a_killed_one(
-    log2_list: mutation.Netlist, tmp_path: Path
-) -> None:
-    """With the stage invariants and the other registers' equalities (``stronger``), pdr
-    proves 64 (in seconds; the stage invariants alone left it undecided in 15 minutes), and
-    the same invariants give 43 a counterexample."""
-    il = log2_list.design_il.read_text()
-    rec = _record()["designs"]["brdf_unit_log2"]
-    assert str(STEP_KILLED) in rec["killed_by"]
-    for mutant, verdict in ((STEP_PROVEN, "proven"), (STEP_KILLED, "failed")):
-        command = log2_list.mutations[mutant - 1].command
-        given = mutation_invariants.invariants("brdf_unit_log2", command, il)
-        more = mutation_invariants.stronger("brdf_unit_log2", il)
-        assert "gold:v_reg[13:0] == gate:v_reg[13:0]" in more and not set(more) & set(given)
-        assert _fourth(log2_list, mutant, tmp_path / str(mutant), given + more) == verdict
-
-
-# The quadratic form's step condition tied true, as log2's 64: the outputs and invariants are
-# inductive as they stand, which ABC's ``ind`` shows and ``pdr`` after ``scorr`` did not in 900 s
-QUADRATIC_STEP = 137
-
-
-def test_k_induction_proves_the_quadratic_form_s_step_condition_mutant(tmp_path: Path) -> None:
-    """Quadratic 137 (the accumulator steps once more after a line's last pixel) with its
-    invariants and the stronger ones: ABC's ``ind`` proves it before ``scorr`` and ``pdr`` are
-    run (its verdict file says so, and pdr's is never written)."""
-    net = mutation.prepare(mutation.DESIGNS["brdf_unit_quadratic"], BUILD)
-    il = net.design_il.read_text()
-    command = net.mutations[QUADRATIC_STEP - 1].command
-    assert "-mode const1" in command and "$logic_not$brdf_unit.v:469" in command
-    given = mutation_invariants.invariants("brdf_unit_quadratic", command, il)
-    given += mutation_invariants.stronger("brdf_unit_quadratic", il)
-    assert _fourth(net, QUADRATIC_STEP, tmp_path, given) == "proven"
-    assert (tmp_path / mutation_proof.IND_STATUS).read_text().split()[0] == "snl_UNSAT"
-    assert not (tmp_path / mutation_proof.PDR_STATUS).exists()
-
-
-# The log2 form's survivors of every check and of the proofs from reset: 2 - e' with a low bit
-# set where the octave e' is 2 (143, bit 1; 277, bit 3), where the original's word is 0 and the
-# mutant's 2 or 8, which no C shows.  A mutation inside the window that the committed set kills
-# (1, a bit of the x register tied to 1) and one in the front before the address register (3)
-WINDOW_PROVEN, WINDOW_KILLED, WINDOW_BEFORE = 143, 1, 3
-
-
-def test_the_window_proves_a_log2_survivor_and_finds_a_killed_mutant_s_counterexample(
-    log2_list: mutation.Netlist, tmp_path: Path
-) -> None:
-    """The fifth proof (``prove_window``) proves 143 with words below ``tiny`` allowed to
-    differ, and finds a counterexample for it with every word compared (its word does change)
-    and for 1, which the committed set kills; 3 lies before the window's address register."""
-    window = log2_list.design.window
-    rec = _record()["designs"]["brdf_unit_log2"]
-    assert str(WINDOW_KILLED) in rec["killed_by"]
-    how = {e["id"]: e["equivalent"] for e in rec["equivalent"]}
-    assert how[WINDOW_PROVEN].startswith("bmc3 over the datapath")
-
-    def prove(mutant: int, given: mutation_proof.Window) -> str:
-        command = log2_list.mutations[mutant - 1].command
-        return mutation_proof.prove_in_window(
-            tmp_path / f"{mutant}_{given.tiny}", "brdf_unit", log2_list.design_il, command, given
-        )
-
-    assert prove(WINDOW_PROVEN, window) == "proven"
-    assert prove(WINDOW_PROVEN, dataclasses.replace(window, tiny=0)) == "failed"
-    assert prove(WINDOW_KILLED, window) == "failed"
-    assert prove(WINDOW_BEFORE, window) == "outside"
-
-
-def test_the_window_s_tiny_word_is_the_rounding_s() -> None:
-    """A word below ``tiny`` shows 0 at every C: C x word is rounded by adding half of the
-    dropped bits' weight 2^(s - 1) (s = C's fraction bits + the word's) and slicing, so the
-    largest C shows 0 exactly while C_max x word < 2^(s - 1): tiny = ceil(2^(s - 1) / C_max)
-    (129 at the defaults: 2^23 / 65535 = 128.002)."""
-    for form in brdf.RTL_FORMS:
-        cfg = brdf.UNIT_CONFIGS[form]
-        a = cfg.angle
-        s = a.c_frac_bits + cfg.out_bits
-        assert mutation_brdf.brdf_window(cfg).tiny == -(-(1 << (s - 1)) // a.c_format.hi), form
-    assert mutation.DESIGNS["brdf_unit_log2"].window.tiny == 129
-
-
-def test_an_asynchronous_rom_port_s_reset_is_unbuildable_and_never_read() -> None:
-    """The cosine-quadratic list holds a mutation of the angle ROM's asynchronous read port's
-    reset (RD_ARST), which Yosys requires to be 0: it cannot go into a netlist, and the cell
-    never reads it, so the proofs list it as equivalent by the cell's definition.  Its address
-    is read: the same mutation of RD_ADDR is neither."""
-    net = mutation.prepare(mutation.DESIGNS["brdf_unit_cosine_quadratic"], BUILD)
-    il = net.design_il.read_text()
-    held = [
-        m.command
-        for m in net.mutations
-        if mutation_proof.mutate_field(m.command, "port") in ("RD_EN", "RD_ARST", "RD_SRST")
-    ]
-    assert held, "the list has no mutation of a read port's enable or reset"
-    for command in held:
-        assert mutation_proof.unbuildable(il, command), command
-        assert "never reads" in mutation_proof.unread_port(il, command), command
-        address = re.sub(r"-port \S+", "-port RD_ADDR", command)
-        assert not mutation_proof.unbuildable(il, address)
-        assert mutation_proof.unread_port(il, address) is None
-
-
-def test_an_invariant_is_proven_not_assumed(
-    specular_list: mutation.Netlist, tmp_path: Path
-) -> None:
-    """An invariant the original breaks (the accumulator 0 while a pixel is in stage S0) gives
-    a counterexample on a mutant the same proof proves without it: the invariants are
-    asserted, so a wrong one can never make a proof."""
-    wrong = ("!gold:v_reg[0] || gold:acc_reg == 40'd0",)
-    assert _fourth(specular_list, CUT_PROVEN, tmp_path / "wrong", wrong) == "failed"
-
-
-# The Gouraud unit's 174 (start_reg bit 8 flipped while its bit 23 is set): make mutants proves
-# it with its own invariants (sim/mutation_invariants.py GOURAUD_CLAMPED, about 140 s of pdr; its
-# record says so, and test_the_record_is_current holds the record to this netlist), as it proves
-# the core's 244 with the core's
-CLAMP_PROVEN = 174
-
-
-def test_the_clamp_invariants_are_given_to_gouraud_174(gouraud_list: mutation.Netlist) -> None:
-    """174's invariants are found by its mutate command, and its record says they prove it."""
-    command = gouraud_list.mutations[CLAMP_PROVEN - 1].command
-    given = mutation_invariants.invariants("gouraud_segment", command)
-    assert given == mutation_invariants.GOURAUD_CLAMPED
-    record = _record()["designs"]["gouraud_segment"]
-    proven = {e["id"]: e["equivalent"] for e in record["equivalent"]}
-    assert f"with {len(given)} invariants proven alongside" in proven[CLAMP_PROVEN]
-
-
-def test_the_clamp_invariants_find_a_killed_mutant_s_counterexample(
-    gouraud_list: mutation.Netlist, tmp_path: Path
-) -> None:
-    """The same invariants on a mutant a soak kills (15): a counterexample."""
-    command = gouraud_list.mutations[FROM_RESET_KILLED - 1].command
-    design = gouraud_list.design
-    verdict = mutation_proof.prove_from_reset(
-        tmp_path, design.top, gouraud_list.design_il, command, design.contract, 60, True,
-        mutation_invariants.GOURAUD_CLAMPED,
-    )  # fmt: skip
-    assert verdict == "failed"
-
-
-# The core's invariants for its 244 (a one-pixel span loads the divider's increment where the
-# original loads 0: make mutants proves it with them in about three minutes of pdr), on 143 (a
-# bit of that increment tied to 0), which the core's committed set kills
-ONE_PIXEL_KILLED = 143
-
-
-@pytest.fixture(scope="module")
-def core_list() -> mutation.Netlist:
-    return mutation.prepare(mutation.DESIGNS["shading_core"], BUILD)
-
-
-def test_an_invariant_reads_a_memory_word_by_its_escaped_name() -> None:
-    """A word of a memory mapped to registers (``u_fifo.mem[3]``) is named as Verilog escapes a
-    name, a backslash up to the next white space; a plain name still takes a bit select."""
-    given = (
-        "gold:\\u_fifo.mem[3] == gate:\\u_fifo.mem[3] ",
-        "!gold:v_reg[2] || gold:side_reg[149:100] == gate:side_reg[149:100]",
-    )
-    assert mutation_cuts.invariant_wires(given) == ["u_fifo.mem[3]", "v_reg", "side_reg"]
-    assert [mutation_cuts.invariant_verilog(i) for i in given] == [
-        "gold_mutation_probe_u_fifo__mem_3_ == gate_mutation_probe_u_fifo__mem_3_ ",
-        "!gold_mutation_probe_v_reg[2] || gold_mutation_probe_side_reg[149:100]"
-        " == gate_mutation_probe_side_reg[149:100]",
-    ]
-
-
-def test_the_one_pixel_span_invariants_find_a_killed_mutant_s_counterexample(
-    core_list: mutation.Netlist, tmp_path: Path
-) -> None:
-    """The invariants that prove the core's 244 (found by its mutate command in the record),
-    on a mutant the core's committed set kills (143): a counterexample."""
-    rec = _record()["designs"]["shading_core"]
-    (proven,) = [o["command"] for o in rec["equivalent"] if o["id"] == 244]
-    given = mutation_invariants.invariants("shading_core", proven)
-    assert given == mutation_invariants.CORE_ONE_PIXEL_SPAN
-    assert str(ONE_PIXEL_KILLED) in _record()["designs"]["shading_core"]["killed_by"]
-    command = core_list.mutations[ONE_PIXEL_KILLED - 1].command
-    design = core_list.design
-    verdict = mutation_proof.prove_from_reset(
-        tmp_path, design.top, core_list.design_il, command, design.contract, 300, True, given
-    )
-    assert verdict == "failed"
-
-
 def test_rounding_spans_put_every_quotient_near_a_rounding_point() -> None:
     """The core's rounding spans (100 of them here): Gouraud only, 1024 to 2047 pixels, each
     channel's quotient a x r within its window of a rounding point of dI, so a change of dI
@@ -649,7 +295,6 @@ def test_each_brdf_form_is_a_design_of_its_own(name: str) -> None:
     """The BRDF unit is one design per form with RTL, built with its committed set's
     parameters: its list mutates its own form's datapath (the piecewise form's holds the
     cubic's, which it instantiates) and no other form's."""
-    from model.units import brdf
 
     assert sorted(BRDF_DESIGNS) == sorted(f"brdf_unit_{f}" for f in brdf.RTL_FORMS)
     design = mutation.DESIGNS[name]
@@ -678,7 +323,6 @@ def test_brdf_marks_are_the_forms_branch_points(n: int) -> None:
     form's tau = 0 at the match point s = 0.5^(1/n) (``cubic_coefficients``; the piecewise
     form's junction), the quadratic's zero 1 - a w = 0 and the cosine-quadratic's
     1 - (7n/16) w = 0 (where w = 1 - cos <= 1)."""
-    from model.units import brdf
 
     def near(form: str, cos: float) -> None:
         cfg = brdf.UNIT_CONFIGS[form]
@@ -705,8 +349,6 @@ def test_brdf_highlight_lines_stay_lit_or_cross_a_mark(form: str) -> None:
     each across one of its n's marks (a rounding point of the angle table's address within
     the line's |angle|s)."""
     import numpy as np
-
-    from model.units import brdf
 
     cfg = brdf.UNIT_CONFIGS[form]
     rows = mutation_brdf.brdf_highlight_inputs(cfg, 200)
@@ -737,8 +379,6 @@ def test_sensitive_c_shows_every_change_of_a_word() -> None:
     drawn at random and the ends; where it gives none, no C in C's range does (brute force
     over every C, the model's rounding)."""
     import numpy as np
-
-    from model.units import brdf
 
     cfg = brdf.UNIT_CONFIGS["quadratic"]
     a = cfg.angle
@@ -784,7 +424,6 @@ def test_the_exhaustive_check_starts_every_line_and_visits_every_address(form: s
     whose word some C shows changed (not full scale): the piecewise form none."""
     import numpy as np
 
-    from model.units import brdf
     from sim import soak_predict
 
     cfg = brdf.UNIT_CONFIGS[form]
@@ -815,7 +454,6 @@ def test_far_lines_reach_each_accumulator_bit_alone() -> None:
     """Each far line's pixel 2^(LEN_WIDTH - 1) has the accumulator at +-(2^b + one address)
     for every bit b from z0's top to the one below the accumulator's sign, the operands in
     their ranges; the model gives that pixel the word beyond pi/2 (the same as pi/2's)."""
-    from model.units import brdf
 
     cfg = brdf.UNIT_CONFIGS["cosine_quadratic"]
     spec = units.spec(cfg)
@@ -841,7 +479,6 @@ def test_the_exhaustive_check_s_length_is_the_docs() -> None:
     decimal; the stimulus: reset, a write, then each line's start and the cycles it keeps the
     unit busy, ``brdf.cycles``, and one more), and what the piecewise form's one-pixel lines
     would cost (``EXHAUSTIVE_PIXELS`` leaves it out)."""
-    from model.units import brdf
 
     def cycles(form: str) -> tuple[float, int]:
         cfg = brdf.UNIT_CONFIGS[form]
@@ -898,8 +535,6 @@ def test_the_facts_that_make_cubic_124_and_log2_143_277_equivalent() -> None:
     6 changes the word past pi/2, which is 0 from n = 3 on."""
     import numpy as np
 
-    from model.units import brdf
-
     cfg = brdf.UNIT_CONFIGS["cubic"]
     one = np.nonzero(brdf.angle_table(cfg) == 0)[0].astype(np.int64)
     assert one.tolist() == [0, 1, 2]
@@ -920,49 +555,20 @@ def test_the_facts_that_make_cubic_124_and_log2_143_277_equivalent() -> None:
     assert min(words[:2]) > 0 and max(words[2:]) == 0
 
 
-def test_the_piecewise_survivors_by_file_are_the_docs() -> None:
-    """docs/verification.md's count of the piecewise form's survivors by the source file of
-    their mutation (its first ``-src``), as the record has them."""
-    text = DOC.read_text()
-    found = re.search(
-        r"leave (\d+) of its 53: (\d+) in\s+its split multipliers \(`brdf_mul.v`.*?(\d+) in its "
-        r"pipelined divider \(`brdf_div.v`.*?(\d+) elsewhere in its cubic\s+part "
-        r"\(`brdf_cubic.v`\), one in `brdf_piecewise.v`",
-        text,
-        re.S,
-    )
-    assert found, "docs/verification.md no longer counts the piecewise survivors by file"
-    survivors = _record()["designs"]["brdf_unit_piecewise"]["survivors"]
-    files = [re.search(r"-src (\w+)\.v:", o["command"]).group(1) for o in survivors]
-    by_file = {f: files.count(f) for f in set(files)}
-    assert [int(g) for g in found.groups()] == [
-        len(files),
-        by_file["brdf_mul"],
-        by_file["brdf_div"],
-        by_file["brdf_cubic"],
-    ]
-    assert by_file["brdf_piecewise"] == 1 and len(by_file) == 4
-
-
 def test_the_readme_s_survivor_counts_are_the_record_s() -> None:
-    """README.md's `make mutants` row gives the BRDF forms' survivors as the record has them."""
+    """README.md's `make mutants` row gives the survivors as the record has them: none for the
+    units and the BRDF unit's forms it names, one for the core."""
     text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
     found = re.search(
-        r"the BRDF forms have (\d+) left, each one listed there: (\w+) forms' (\d+) and the "
-        r"piecewise form's (\d+); the (\w+) and (\w+) forms have none",
+        r"the divider, the Gouraud unit, the specular unit and the BRDF unit's (\w+) forms have "
+        r"no survivor; the core has (\w+),",
         text,
     )
-    assert found, "README.md's make mutants row no longer gives the BRDF survivors"
-    designs = _record()["designs"]
-    count = {name: len(designs[name]["survivors"]) for name in BRDF_DESIGNS}
-    piecewise = count.pop("brdf_unit_piecewise")
-    some = [name for name, k in count.items() if k]
-    words = ("one", "two", "three", "four")
-    total, forms, others, pw, none_a, none_b = found.groups()
-    assert [int(total), words.index(forms) + 1, int(others), int(pw)] == [
-        sum(count.values()) + piecewise,
-        len(some),
-        sum(count.values()),
-        piecewise,
-    ]
-    assert sorted(f"brdf_unit_{f}" for f in (none_a, none_b)) == sorted(set(count) - set(some))
+    assert found, "README.md's make mutants row no longer gives the survivors"
+    designs = record()["designs"]
+    words = ("none", "one", "two", "three", "four", "five")
+    forms, core = (words.index(w) for w in found.groups())
+    assert forms == len(BRDF_DESIGNS)
+    for name in ("divider_shift", "gouraud_segment", "specular_unit", *BRDF_DESIGNS):
+        assert designs[name]["survivors"] == [], name
+    assert len(designs["shading_core"]["survivors"]) == core

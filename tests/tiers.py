@@ -153,7 +153,7 @@ SLOW: dict[str, str] = {
         "the core's build and runs take minutes); quick: test_sampled_mutants_are_killed, 12 a "
         "design"
     ),
-    "tests/test_mutation.py::"
+    "tests/test_mutation_proof.py::"
     "test_the_one_pixel_span_invariants_find_a_killed_mutant_s_counterexample": (
         "the core's miter with the same invariants (a minute or more); quick: "
         "test_an_invariant_is_proven_not_assumed"

@@ -1,0 +1,88 @@
+# SPDX-License-Identifier: Apache-2.0
+"""sim/aiger_eval.py against Python's own arithmetic: Yosys writes the AIG of a small
+function (mapped to gates, not optimised, so that one that never holds keeps its gates), the
+sweep finds the first assignment that sets its output, and Python finds the same one by
+counting through the operands (the lowest input bit first)."""
+
+from __future__ import annotations
+
+import subprocess
+from pathlib import Path
+
+import pytest
+
+from sim.aiger_eval import first_one, read_aiger, support
+from sim.gate import yosys_exe
+
+
+def _aig(tmp_path: Path, width: int, expr: str) -> tuple[Path, dict[int, tuple[str, int]]]:
+    """The AIG of ``y = expr`` over inputs a and b of ``width`` bits and an unread c, and each
+    input variable's (name, bit) from Yosys's map."""
+    (tmp_path / "t.v").write_text(
+        f"module t (input [{width - 1}:0] a, input [{width - 1}:0] b, input [2:0] c, "
+        f"output y);\n  assign y = {expr};\nendmodule\n"
+    )
+    subprocess.run(
+        [yosys_exe(), "-q", "-p",
+         "read_verilog t.v; hierarchy -top t; proc; techmap; opt_clean; aigmap; "
+         "write_aiger -map t.map t.aig"],
+        cwd=tmp_path, check=True, capture_output=True,
+    )  # fmt: skip
+    names = {}
+    for line in (tmp_path / "t.map").read_text().splitlines():
+        kind, index, bit, name = line.split()
+        if kind == "input":
+            names[int(index) + 1] = (name, int(bit))
+    return tmp_path / "t.aig", names
+
+
+def _first(width: int, holds) -> tuple[int, int] | None:
+    """The first (a, b) by the count over a's bits then b's (Yosys's input order) for which
+    ``holds(a, b)``."""
+    for code in range(1 << (2 * width)):
+        a, b = code & ((1 << width) - 1), code >> width
+        if holds(a, b):
+            return a, b
+    return None
+
+
+@pytest.mark.parametrize(
+    ("width", "expr", "holds"),
+    [
+        (4, "a * b == 8'd35", lambda a, b: a * b == 35),  # 256 assignments: within one word
+        (7, "a * b == 14'd5183", lambda a, b: a * b == 5183),  # 16 384: several sweep steps
+        (7, "(a + b) > 8'd250", lambda a, b: a + b > 250),
+        # 8191 is prime and above 127: no two 7-bit operands make it
+        (7, "a * b == 14'd8191", lambda a, b: a * b == 8191),
+    ],
+)
+def test_the_sweep_finds_python_s_first_assignment(tmp_path: Path, width, expr, holds) -> None:
+    path, names = _aig(tmp_path, width, expr)
+    aig = read_aiger(path)
+    # c is never read: the support is a's and b's bits only
+    assert sorted(names[v] for v in support(aig)) == sorted(
+        (n, i) for n in ("a", "b") for i in range(width)
+    )
+    found = first_one(aig)
+    want = _first(width, holds)
+    if want is None:
+        assert found is None
+        return
+    assert found is not None
+    value = {"a": 0, "b": 0}
+    for v, bit in found.items():
+        name, i = names[v]
+        value[name] |= bit << i
+    assert (value["a"], value["b"]) == want
+
+
+def test_a_support_wider_than_the_limit_is_refused(tmp_path: Path) -> None:
+    path, _ = _aig(tmp_path, 4, "a * b == 8'd35")
+    with pytest.raises(ValueError, match="reads 8 inputs; at most 6 are swept"):
+        first_one(read_aiger(path), limit=6)
+
+
+def test_an_aig_with_latches_is_refused(tmp_path: Path) -> None:
+    (tmp_path / "l.aig").write_bytes(b"aig 1 0 1 1 0\n2\n2\n")
+    with pytest.raises(ValueError, match="1 latches; only a combinational AIG"):
+        read_aiger(tmp_path / "l.aig")
