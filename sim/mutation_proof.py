@@ -809,6 +809,26 @@ def window_verilog(ports: dict[str, tuple[str, int]], window: Window, idle: str)
     return "\n".join(lines)
 
 
+def window_inputs(folder: Path, found: dict[int, int]) -> list[str]:
+    """The assignment ``found`` of the unrolled cone's inputs (``first_one``) as the miter's
+    input words, ``<name> = <value> in cycle <t>``, one a line, by cycle then name: ABC's
+    ``frames`` numbers frame t's inputs t x I + 1 .. (t + 1) x I, each in the order of
+    ``window.aig``'s, whose names and bits ``window.map`` (Yosys ``write_aiger -map``) gives."""
+    header = (folder / "window.aig").read_bytes().split(b"\n", 1)[0].split()
+    per_frame = int(header[2])
+    names = {}
+    for line in (folder / "window.map").read_text().splitlines():
+        fields = line.split()
+        if fields[0] == "input":
+            names[int(fields[1])] = (fields[3], int(fields[2]))
+    words: dict[tuple[int, str], int] = {}
+    for v, value in found.items():
+        cycle, index = divmod(v - 1, per_frame)
+        name, bit = names.get(index, (f"unnamed input {index}", 0))
+        words[cycle, name] = words.get((cycle, name), 0) | (value << bit)
+    return [f"{name} = {value} in cycle {t}" for (t, name), value in sorted(words.items())]
+
+
 def _unrolled(folder: Path, top: str, miter: str, frames: int, timeout: float) -> Aig | None:
     """The fifth proof's miter ``miter`` (Verilog, ``window_verilog``) over
     ``gold_window.il`` and ``gate_window.il`` in ``folder``, unrolled by ABC over ``frames``
@@ -826,7 +846,7 @@ def _unrolled(folder: Path, top: str, miter: str, frames: int, timeout: float) -
         f"rename {top} gate\nread_verilog -formal window.v\nhierarchy -top mutation_window\n"
         "proc\nchformal -lower\nflatten\nmemory_map\n"
         "techmap\nsetundef -undriven -anyseq\nopt -fast -keepdc\ndffunmap\naigmap\nopt_clean\n"
-        "write_aiger -zinit window.aig\ndesign -reset\nread_verilog abc_host.v\n"
+        "write_aiger -zinit -map window.map window.aig\ndesign -reset\nread_verilog abc_host.v\n"
         "hierarchy -top mutation_abc_host\nproc\ntechmap\nabc -script window.abc\n"
     )
     cone.unlink(missing_ok=True)
@@ -891,7 +911,7 @@ def prove_window(
         verdict = "proven" if found is None else "failed"
         if found is not None:
             (folder / "window_cex.txt").write_text(
-                "".join(f"unrolled input {v}: {bit}\n" for v, bit in found.items())
+                "".join(f"{line}\n" for line in window_inputs(folder, found))
             )
     _keep(folder, key, f"{verdict} {inputs}")
     return verdict, inputs

@@ -15,6 +15,7 @@ import dataclasses
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from model.units import brdf
@@ -251,8 +252,10 @@ def test_the_window_proves_a_log2_survivor_and_finds_a_killed_mutant_s_counterex
     log2_list: mutation.Netlist, tmp_path: Path
 ) -> None:
     """The fifth proof (``prove_window``) proves 143 with words below ``tiny`` allowed to
-    differ, and finds a counterexample for it with every word compared (its word does change)
-    and for 1, which the committed set kills; 3 lies before the window's address register."""
+    differ, and finds a counterexample for it with every word compared (its word does change,
+    where the original's is 0: the model says so at the n and address the counterexample
+    names) and for 1, which the committed set kills; 3 lies before the window's address
+    register."""
     window = log2_list.design.window
     rec = record()["designs"]["brdf_unit_log2"]
     assert str(WINDOW_KILLED) in rec["killed_by"]
@@ -268,6 +271,12 @@ def test_the_window_proves_a_log2_survivor_and_finds_a_killed_mutant_s_counterex
     # the cone reads n (10 bits, cycle 0) and the address (13 bits, cycle 5) alone
     assert prove(WINDOW_PROVEN, window) == ("proven", 23)
     assert prove(WINDOW_PROVEN, dataclasses.replace(window, tiny=0)) == ("failed", 23)
+    cex = (tmp_path / f"{WINDOW_PROVEN}_0" / "window_cex.txt").read_text()
+    found = re.fullmatch(r"n_in = (\d+) in cycle 0\nmutation_cut = (\d+) in cycle 5\n", cex)
+    assert found, cex
+    n, address = (int(g) for g in found.groups())
+    cfg = brdf.UNIT_CONFIGS["log2"]
+    assert brdf.evaluate(cfg, np.array([address << cfg.addr_shift]), n).tolist() == [0]
     assert prove(WINDOW_KILLED, window) == ("failed", 23)
     assert prove(WINDOW_BEFORE, window) == ("outside", 0)
 
