@@ -49,7 +49,8 @@ def _first(width: int, holds) -> tuple[int, int] | None:
 @pytest.mark.parametrize(
     ("width", "expr", "holds"),
     [
-        (4, "a * b == 8'd35", lambda a, b: a * b == 35),  # 256 assignments: within one word
+        (2, "a * b == 4'd6", lambda a, b: a * b == 6),  # 16 assignments: part of one word
+        (4, "a * b == 8'd35", lambda a, b: a * b == 35),  # 256 assignments: four words
         (7, "a * b == 14'd5183", lambda a, b: a * b == 5183),  # 16 384: several sweep steps
         (7, "(a + b) > 8'd250", lambda a, b: a + b > 250),
         # 8191 is prime and above 127: no two 7-bit operands make it
@@ -74,6 +75,20 @@ def test_the_sweep_finds_python_s_first_assignment(tmp_path: Path, width, expr, 
         name, i = names[v]
         value[name] |= bit << i
     assert (value["a"], value["b"]) == want
+
+
+@pytest.mark.parametrize("target", [0, 1, 2, 3, 5, 6, 12, 24, 40, 48, 63])
+def test_each_lane_of_a_word_is_its_own_assignment(tmp_path: Path, target: int) -> None:
+    """Six inputs fill one 64-bit word: the one assignment {b, a} = target that sets the
+    output is found at its own lane, whichever of the input patterns' bits it sits on."""
+    path, names = _aig(tmp_path, 3, f"{{b, a}} == 6'd{target}")
+    found = first_one(read_aiger(path))
+    assert found is not None
+    value = {"a": 0, "b": 0}
+    for v, bit in found.items():
+        name, i = names[v]
+        value[name] |= bit << i
+    assert value["a"] | value["b"] << 3 == target
 
 
 def test_a_support_wider_than_the_limit_is_refused(tmp_path: Path) -> None:
