@@ -91,6 +91,19 @@ def test_each_lane_of_a_word_is_its_own_assignment(tmp_path: Path, target: int) 
     assert value["a"] | value["b"] << 3 == target
 
 
+@pytest.mark.parametrize(("output", "want"), [(8, {2: 1, 3: 1}), (9, {2: 0, 3: 0}), (4, {2: 1})])
+def test_a_hand_written_aig_by_the_format_s_rules(tmp_path: Path, output: int, want) -> None:
+    """An AIG written by hand by the AIGER format's rules: inputs 1..3 (literals 2, 4, 6) and
+    one and gate, variable 4 = x2 & x3 (literal 8 = 4 & 6: the deltas 8 - 6 = 2 and 6 - 4 =
+    2); its one output the gate (found where both inputs are 1), the gate inverted (literal 9:
+    both 0) or input 2 alone (literal 4).  Input 1 is never read."""
+    head = f"aig 4 3 0 1 1\n{output}\n".encode()
+    (tmp_path / "h.aig").write_bytes(head + bytes([2, 2]))
+    aig = read_aiger(tmp_path / "h.aig")
+    assert support(aig) == sorted(want)
+    assert first_one(aig) == want
+
+
 def test_a_support_wider_than_the_limit_is_refused(tmp_path: Path) -> None:
     path, _ = _aig(tmp_path, 4, "a * b == 8'd35")
     with pytest.raises(ValueError, match="reads 8 inputs; at most 6 are swept"):
