@@ -877,10 +877,12 @@ def prove_window(
     number of inputs the cone reads (0 where it was not built).  A verdict is kept for the
     same netlists, window and method.
 
-    The tables' filling is sound for a mutation in the window (``in_window``): a table's
-    address logic then lies upstream of the loaded registers or of the cut one, the same in
-    both copies, and reads only the addresses the unit gives it (the coefficient table's 2000
-    words at 2 (n - 1) and 2 (n - 1) + 1, n - 1 < 1000, of the 2048 its address reaches)."""
+    The tables' filling is sound where a filled table is read only at the addresses the unit
+    gives it: in the BRDF unit only the coefficient tables are filled (2000 words of the 2048
+    their address reaches; the angle table, which the free address reads, has a word at
+    every address), and for a mutation in the window (``in_window``) their address logic lies
+    upstream of the loaded register, the original's in both copies, which reads 2 (n - 1)
+    and 2 (n - 1) + 1 < 2000 only."""
 
     def prepared(il: str, name: str) -> tuple[str, str]:
         text = cut_register(_memories_mapped(folder, roms_filled(il), name), top, window.cut)

@@ -301,6 +301,16 @@ def test_the_window_proves_the_cubic_survivor_through_its_filled_table(tmp_path:
     )
     assert verdict == ("proven", 23)
     assert len(aiger_eval.support(aiger_eval.read_aiger(tmp_path / "window_cone.aig"))) == 23
+    # the one table filled is the coefficient table, whose address n gives (the angle table,
+    # which the window's free address reads, has a word at every address)
+    il = net.design_il.read_text()
+    short = [
+        name
+        for name, block in re.findall(r"^\s*cell \$mem_v2 (\S+)\n(.*?)^\s*end$", il, re.M | re.S)
+        if int(re.search(r"parameter \\SIZE (\d+)", block).group(1))
+        < 1 << int(re.search(r"parameter \\ABITS (\d+)", block).group(1))
+    ]
+    assert short == ["\\genblk25.g_coef_rom_cubic.u_coef_rom.rom"], short
 
 
 def test_the_window_s_tiny_word_is_the_rounding_s() -> None:
