@@ -52,7 +52,7 @@ result.json (``merge``: after a proof is added, only the survivors need to run a
 ``--reset-proof-only`` gives them the proofs from reset and the window alone (their checks and
 the other proofs already found nothing).
 
-Size: about 560 lines: the list, the netlist, the benches, the checks' order and the record
+Size: about 660 lines: the list, the netlist, the benches, the checks' order and the record
 are one flow, ``make mutants``, whose parts only it runs.
 """
 
