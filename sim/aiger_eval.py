@@ -1,7 +1,7 @@
 # SPDX-License-Identifier: Apache-2.0
 """A combinational and-inverter graph (binary AIGER, as ABC and Yosys write it) decided by
 evaluating it on every assignment of the inputs an output depends on: the window proof of
-``make mutants`` (sim/mutation_proof.py, ``prove_window``) unrolls its miter in ABC to one
+``make mutants`` (sim/mutation_window.py, ``prove_window``) unrolls its miter in ABC to one
 output whose cone reads a few dozen inputs at most, where a SAT solver stalls on the
 multipliers but a bit-parallel sweep of all 2^k assignments takes seconds.
 

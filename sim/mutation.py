@@ -88,13 +88,13 @@ from sim.mutation_checks import (
 from sim.mutation_proof import (
     PDR_TIMEOUT,
     Contract,
-    Window,
     equivalence,
     mutate_field,
     run_yosys,
     unbuildable,
 )
 from sim.mutation_report import table, write_docs
+from sim.mutation_window import Window, window_equivalence
 
 ROOT = Path(__file__).resolve().parent.parent
 OUT = ROOT / "out" / "mutants"
@@ -413,22 +413,25 @@ def run_design(
     t0 = time.monotonic()
     proven: dict[int, str] = {}
     design_text = net.design_il.read_text() if prove and alive else ""
+    window = design.window
+
+    def proof(i: int) -> str | None:
+        """The method that proves mutant ``i`` equivalent: the four of ``equivalence``, then
+        for a design with a window the fifth (``window_equivalence``); or None."""
+        folder, command = net.folder / "equiv" / str(i), by_id[i].command
+        how = equivalence(
+            folder, design.top, net.design_il, command, design.busy_proof,
+            contract=design.contract, pdr_timeout=pdr_timeout, earlier=not reset_proof_only,
+            invariants=mutation_invariants.invariants(design.name, command, design_text),
+            stronger=mutation_invariants.stronger(design.name, design_text),
+        )  # fmt: skip
+        if how is None and window is not None:
+            how = window_equivalence(folder, design.top, net.design_il, command, window)
+        return how
+
     if prove:
         with ThreadPoolExecutor(max_workers=jobs) as pool:
-            for i, how in zip(alive, pool.map(
-                    lambda i: equivalence(
-                        net.folder / "equiv" / str(i), design.top, net.design_il,
-                        by_id[i].command, design.busy_proof, contract=design.contract,
-                        pdr_timeout=pdr_timeout, earlier=not reset_proof_only,
-                        invariants=mutation_invariants.invariants(
-                            design.name, by_id[i].command, design_text
-                        ),
-                        stronger=mutation_invariants.stronger(design.name, design_text),
-                        window=design.window,
-                    ),
-                    alive,
-                ),
-                              strict=True):  # fmt: skip
+            for i, how in zip(alive, pool.map(proof, alive), strict=True):
                 if how:
                     proven[i] = how
     equiv_s = time.monotonic() - t0

@@ -24,7 +24,7 @@ from model.units.brdf import FixedConfig
 from model.units.brdf.unit import scale_kernel
 from model.units.specular import N_MAX
 from sim import soak_stimulus, units
-from sim.mutation_proof import Window
+from sim.mutation_window import Window
 
 # The highlight lines' seed (the record's lines were drawn with it: sim/mutation_checks.py's
 # DIRECTED_SEED + 8)
@@ -338,7 +338,7 @@ WINDOW_PIXEL = 5
 
 
 def brdf_window(cfg: FixedConfig) -> Window:
-    """The BRDF unit's datapath as the fifth proof's window (sim/mutation_proof.py,
+    """The BRDF unit's datapath as the fifth proof's window (sim/mutation_window.py,
     ``prove_window``): from the front's address register (S3, every value of it one the
     unit can hold: pi/2 and beyond read as w = 2^D) and the line's word k_run_reg (n written
     while idle, then a start) to the form's output word ``form_y``, two edges (the table read,

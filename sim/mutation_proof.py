@@ -2,7 +2,7 @@
 """The formal equivalence checks of ``make mutants`` (sim/mutation.py): a mutant that every
 check passes, against the original design, in Yosys.
 
-The ROM tables are cut out of both designs (``cut_roms``).  Five kinds of proof
+The ROM tables are cut out of both designs (``cut_roms``).  Four kinds of proof
 (``equivalence``):
 
 * Yosys's equivalence flow, ``equiv_make`` (a ``$equiv`` cell per bit of every named wire the
@@ -24,19 +24,17 @@ The ROM tables are cut out of both designs (``cut_roms``).  Five kinds of proof
   alongside the outputs: what pdr does not find through a multiplier, or at all in its time
   (a stage register equal in the two copies while its valid bit is set), then with a
   design's stronger set (the BRDF unit's other registers equal in every cycle).
-* A window of a unit's datapath (``Window``, ``prove_window``): the two designs from two
-  unrelated arbitrary states, the pixel's table address free, the line's constant loaded
-  from the tables, whose words are kept, as are the multipliers, the word the window computes
-  compared in the cycle it is ready: the miter unrolled by ABC to that cycle, then evaluated
-  on every assignment of the few inputs its cone reads (sim/aiger_eval.py): what holds only
-  for the tables' words and the products they give.
+
+The fifth, a window of a unit's datapath with the tables and multipliers kept, swept over
+every input its unrolled cone reads, is sim/mutation_window.py's; it uses the miter parts
+here (``shared_power_up``, ``memories_mapped``, ``port_widths``) and the verdict cache.
 
 A verdict is kept per folder for the same netlists and script.
 
 The netlist surgery they share (the ROM and product cuts, the probes of the invariants) is
 sim/mutation_cuts.py.
 
-Size: about 900 lines: the five proofs share the miter's netlists, the verdict cache and the
+Size: about 700 lines: the four proofs share the miter's netlists, the verdict cache and the
 Yosys runs; each is one method of telling a mutant from the original.
 """
 
@@ -51,22 +49,18 @@ import threading
 from dataclasses import dataclass
 from pathlib import Path
 
-from sim.aiger_eval import Aig, first_one, read_aiger, support
 from sim.gate import yosys_exe
 from sim.mutation_cuts import (
     PROBE,
     PRODUCT,
-    add_ports,
     cut_products,
     cut_roms,
     invariant_verilog,
     invariant_wires,
     observed,
-    probe_name,
     probed,
     product_cuts,
     rom_reads,
-    roms_filled,
 )
 
 
@@ -133,13 +127,13 @@ def unbuildable(il: str, command: str) -> bool:
 _verdict_lock = threading.Lock()
 
 
-def _known(folder: Path, key: str) -> str | bool | None:
+def known_verdict(folder: Path, key: str) -> str | bool | None:
     """The verdict kept for ``key`` beside ``folder`` (its parent's verdicts.json), or None."""
     verdicts = folder.parent / "verdicts.json"
     return (json.loads(verdicts.read_text()) if verdicts.exists() else {}).get(key)
 
 
-def _keep(folder: Path, key: str, verdict: str | bool) -> None:
+def keep_verdict(folder: Path, key: str, verdict: str | bool) -> None:
     """Keep ``verdict`` for ``key`` beside ``folder`` (a rerun proves nothing twice)."""
     with _verdict_lock:
         verdicts = folder.parent / "verdicts.json"
@@ -148,7 +142,7 @@ def _keep(folder: Path, key: str, verdict: str | bool) -> None:
         verdicts.write_text(json.dumps(known, indent=1) + "\n")
 
 
-def _yosys_within(folder: Path, script: str, timeout: float) -> bool:
+def yosys_within(folder: Path, script: str, timeout: float) -> bool:
     """Run the Yosys script file ``script`` in ``folder`` (log ``<script>.log``), stopped after
     ``timeout`` seconds: whether it ran to its end without an error."""
     try:
@@ -164,7 +158,7 @@ def _yosys_within(folder: Path, script: str, timeout: float) -> bool:
     return ran.returncode == 0
 
 
-def _mutant(folder: Path, design_il: Path, command: str) -> str:
+def mutant_netlist(folder: Path, design_il: Path, command: str) -> str:
     """The design ``design_il`` with the mutation ``command`` (RTLIL, ``folder``/gate.il)."""
     original = os.path.relpath(design_il, folder)  # the WebAssembly Yosys: relative paths
     run_yosys(f"read_rtlil {original}\n{command}\nwrite_rtlil gate.il\n", folder, "mutate")
@@ -190,7 +184,7 @@ def _prove(folder: Path, top: str, blacklist: list[str], steps: int, timeout: fl
     for name in ("gold_cut.il", "gate_cut.il", "blacklist.txt"):
         digest.update((folder / name).read_bytes())
     key = digest.hexdigest()
-    cached = _known(folder, key)
+    cached = known_verdict(folder, key)
     if cached is not None:
         return bool(cached)
     try:
@@ -207,7 +201,7 @@ def _prove(folder: Path, top: str, blacklist: list[str], steps: int, timeout: fl
         )
     except subprocess.TimeoutExpired:
         proven = False
-    _keep(folder, key, proven)
+    keep_verdict(folder, key, proven)
     return proven
 
 
@@ -322,6 +316,13 @@ def _constant_false(aig: Path) -> bool:
     )
 
 
+def flip_flops(body: str) -> tuple[list[tuple[str, str]], dict[str, int]]:
+    """The ``$dff`` cells of an RTLIL module's ``body`` as (name, text), and each one's number
+    by name (``shared_power_up``'s ``mutation_init<k>``)."""
+    cells = re.findall(r"^\s*cell \$dff (\S+)\n(.*?)^\s*end$", body, re.M | re.S)
+    return cells, {name: k for k, name in enumerate(sorted(name for name, _ in cells))}
+
+
 def shared_power_up(il: str, top: str) -> str:
     """The RTLIL ``il`` with the power-up state of every ``$dff`` of ``top`` (``prep`` leaves
     no other kind of flip-flop in these designs; a memory's words, mapped later, start free in
@@ -332,8 +333,7 @@ def shared_power_up(il: str, top: str) -> str:
     inputs given to both, start from the same arbitrary state: what a register without a reset
     holds at power-up is the same in both, as in one chip."""
     body = il.split(f"\nmodule \\{top}\n", 1)[1].split("\nend\n", 1)[0]
-    cells = re.findall(r"^\s*cell \$dff (\S+)\n(.*?)^\s*end$", body, re.M | re.S)
-    order = {name: k for k, name in enumerate(sorted(name for name, _ in cells))}
+    cells, order = flip_flops(body)
     port = max(int(n) for n in re.findall(r"^\s*wire .*(?:input|output) (\d+) ", body, re.M))
     decls = [f"  wire input {port + 1} \\{FIRST}"]
     extra = []
@@ -375,7 +375,7 @@ def shared_power_up(il: str, top: str) -> str:
 MAPPED_AUTOIDX = 10_000_000
 
 
-def _memories_mapped(folder: Path, il: str, name: str) -> str:
+def memories_mapped(folder: Path, il: str, name: str) -> str:
     """The RTLIL ``il`` with its memories that have write ports (a FIFO's; the ROMs are cut)
     made flip-flops by Yosys's ``memory_map``, the new cells numbered from ``MAPPED_AUTOIDX``
     (the original and the mutant map the same memories alike: ``shared_power_up`` gives their
@@ -394,7 +394,7 @@ def _memories_mapped(folder: Path, il: str, name: str) -> str:
     return (folder / f"{name}_mapped.il").read_text()
 
 
-def _port_widths(il: str, top: str) -> dict[str, tuple[str, int]]:
+def port_widths(il: str, top: str) -> dict[str, tuple[str, int]]:
     """name -> (direction, width) of every port of ``top`` in the RTLIL ``il``."""
     body = il.split(f"\nmodule \\{top}\n", 1)[1].split("\nend\n", 1)[0]
     found = re.findall(r"^\s*wire (?:width (\d+) )?(input|output|inout) \d+ \\(\S+)$", body, re.M)
@@ -491,7 +491,7 @@ def miter_verilog(
 
 # The module the ABC pass is handed (one gate: the pass calls ABC only with logic to map); the
 # ABC script reads the miter's AIGER instead, and gives the gate back (``backup``/``restore``)
-_ABC_HOST = (
+ABC_HOST = (
     "module mutation_abc_host (input a, input b, output y);\n  assign y = a & b;\nendmodule\n"
 )
 
@@ -514,19 +514,19 @@ def _prove_from_reset(
     verdict is kept for the same netlists, script and time limit."""
     cut = (lambda il: cut_products(cut_roms(il))) if products else cut_roms
     wires = invariant_wires(invariants)
-    gold = shared_power_up(_memories_mapped(folder, cut(gold_il), "gold"), top)
-    gate = shared_power_up(_memories_mapped(folder, cut(gate_il), "gate"), top)
+    gold = shared_power_up(memories_mapped(folder, cut(gold_il), "gold"), top)
+    gate = shared_power_up(memories_mapped(folder, cut(gate_il), "gate"), top)
     if wires:
         gold, gate = probed(gold, top, wires), probed(gate, top, wires)
-    ports = _port_widths(gold, top)
-    if ports != _port_widths(gate, top):
+    ports = port_widths(gold, top)
+    if ports != port_widths(gate, top):
         return "undecided"  # not the same flip-flops, or ports: no shared power-up state
     (folder / "gold_reset.il").write_text(gold)
     (folder / "gate_reset.il").write_text(gate)
     muls = product_cuts(gold_il) if products else []
     miter = miter_verilog(ports, contract, rom_reads(gold_il), muls, invariants)
     (folder / "miter.v").write_text(miter)
-    (folder / "abc_host.v").write_text(_ABC_HOST)
+    (folder / "abc_host.v").write_text(ABC_HOST)
     limit = max(1, int(timeout))
     (folder / "pdr.abc").write_text(
         f"backup\nread_aiger miter.aig\nstrash\nscorr\nwrite_aiger {REDUCED}\npdr -T {limit}\n"
@@ -554,7 +554,7 @@ def _prove_from_reset(
     for name in ("gold_reset.il", "gate_reset.il", "miter.v", "pdr.abc", "ind.abc", "pdr.ys"):
         digest.update((folder / name).read_bytes())
     key = digest.hexdigest()
-    cached = _known(folder, key)
+    cached = known_verdict(folder, key)
     if cached is not None:
         return str(cached)
     for name in (PDR_STATUS, REDUCED, IND_STATUS):
@@ -562,7 +562,7 @@ def _prove_from_reset(
 
     def run(script: str) -> bool:
         # the conversion, scorr, and ABC's own limit overrun: a minute more
-        return _yosys_within(folder, script, timeout + 60)
+        return yosys_within(folder, script, timeout + 60)
 
     # the miter's AIGER (and k-induction, with invariants), then scorr and pdr unless proven
     done = run("reset.ys") and (folder / "miter.aig").exists()
@@ -575,7 +575,7 @@ def _prove_from_reset(
         verdict = {"snl_UNSAT": "proven", "snl_SAT": "failed"}.get(status[0] if status else "", "")
         if not verdict:
             verdict = "proven" if done and _constant_false(folder / REDUCED) else "undecided"
-    _keep(folder, key, verdict)
+    keep_verdict(folder, key, verdict)
     return verdict
 
 
@@ -587,7 +587,7 @@ def prove_from_reset(
     mutation ``command`` against the original, in ``folder``: 'proven', 'failed' or
     'undecided'."""
     folder.mkdir(parents=True, exist_ok=True)
-    gold, gate = design_il.read_text(), _mutant(folder, design_il, command)
+    gold, gate = design_il.read_text(), mutant_netlist(folder, design_il, command)
     return _prove_from_reset(folder, top, gold, gate, contract, timeout, products, invariants)
 
 
@@ -595,7 +595,6 @@ def equivalence(
     folder: Path, top: str, design_il: Path, command: str, unit: bool, seq: int = 4,
     timeout: float = 90, contract: Contract | None = None, pdr_timeout: float = PDR_TIMEOUT,
     earlier: bool = True, invariants: tuple[str, ...] = (), stronger: tuple[str, ...] = (),
-    window: Window | None = None,
 ) -> str | None:  # fmt: skip
     """Prove the design ``design_il`` (RTLIL, module ``top``) with the mutation ``command``
     equal to the original, the ROMs cut (``cut_roms``), in ``folder``: every matched named
@@ -616,11 +615,9 @@ def equivalence(
     ``scorr`` and ``pdr``), each try given ``pdr_timeout`` seconds: what pdr does not find by
     itself (each stage's registers equal in the two copies
     while its valid bit is set), then with ``stronger`` added (the other registers equal in
-    every cycle).  Fifth, for a mutation inside ``window`` (``in_window``): the window's word
-    for one pixel from two arbitrary states, its address free and the line's constant loaded
-    from the tables (``prove_window``): what holds only for the tables' words.  ``earlier`` =
-    False: the proofs from reset alone, and the window (the others already failed on it).  The
-    method's text, or None if none proves it."""
+    every cycle).  ``earlier`` = False: the proofs from reset alone (the others already failed
+    on it).  The method's text, or None if none proves it; the fifth proof, a window of the
+    datapath with the tables kept, is sim/mutation_window.py's."""
     unread = unread_port(design_il.read_text(), command)
     if unread is not None:
         return unread
@@ -676,258 +673,4 @@ def equivalence(
             also = f", with {len(given)} invariants proven alongside" if given else ""
             engine = "k-induction (ind) or scorr and pdr" if given else "scorr and pdr"
             return f"{engine} from reset, {cut} cut{also}: {outputs}"
-    if window is not None and in_window(folder, design_il, command, window):
-        verdict, inputs = prove_window(folder, top, gold, gate, window)
-        if verdict == "proven":
-            small = f", or both below {window.tiny}" if window.tiny else ""
-            return (
-                f"every address and line word swept ({inputs} inputs) through the datapath "
-                f"unrolled from two arbitrary states, tables and multipliers kept: "
-                f"{window.observe} equal{small}"
-            )
     return None
-
-
-# ---------------------------------------------------------------- the fifth proof: a window
-@dataclass(frozen=True)
-class Window:
-    """A feed-forward stretch of a unit, from the wires that carry one pixel's operands into it
-    to the word it computes for that pixel, for the fifth proof (``prove_window``).
-
-    ``cut``: the register whose output is replaced by a free input in every cycle (the pixel's
-    angle-table address: every value of it is one the unit can hold).  ``loaded``: the
-    registers the window's schedule loads (the line's constant word); a mutation upstream of
-    them or of ``cut`` is out of the window's reach.  ``idle``: a control register that
-    starts at 0 in both copies (the unit idle, so the schedule's writes and start are taken).
-    ``schedule``:
-    inputs held to a Verilog expression of the cycle ``t``; every other input is free in every
-    cycle.  ``observe``: the wire the mutation must reach the outputs through, compared in cycle
-    ``frame`` only (the pixel whose address was cut in cycle ``frame - latency``).  ``tiny``:
-    words below it may differ (no operand scales them above 0: the unit's output stage rounds
-    C x word, and C x (tiny - 1) rounds to 0 at the largest C); 0: every word must agree."""
-
-    cut: str
-    loaded: tuple[str, ...]
-    idle: str
-    schedule: tuple[tuple[str, str], ...]
-    observe: str
-    frame: int
-    tiny: int = 0
-
-
-# The cut wire's free input, and its old driver's output (left unread)
-WINDOW_CUT = "mutation_cut"
-# Seconds given to each Yosys and ABC run of a window's proof
-WINDOW_TIMEOUT = 300.0
-# The most inputs an unrolled miter's cone may read to be swept (2^24 assignments)
-WINDOW_SUPPORT = 24
-
-
-def in_window(folder: Path, design_il: Path, command: str, window: Window) -> bool:
-    """The cell the mutation ``command`` changes lies inside ``window`` (Yosys ``select`` on the
-    original netlist): in the fan-in cone of neither ``cut`` nor a ``loaded`` register, across
-    any number of registers (so the window's free address and its schedule's loads carry
-    whatever the mutant would give them), and reaching no output port but through
-    ``window.observe`` (its fan-out cone, with that wire cut, holds no output)."""
-    cell = mutate_field(command, "cell")
-    original = os.path.relpath(design_il, folder)
-    upstream = "".join(
-        f"select -assert-none c:{cell} w:{s} %ci* %i\n" for s in (window.cut, *window.loaded)
-    )
-    try:
-        run_yosys(
-            f"read_rtlil {original}\nopt_clean\n{upstream}expose -cut w:{window.observe}\n"
-            f"select -assert-none c:{cell} %co* o:* %i o:{window.observe} %d\n",
-            folder,
-            "window_reach",
-        )
-    except RuntimeError:
-        return False
-    return True
-
-
-def cut_register(il: str, top: str, wire: str) -> str:
-    """The RTLIL ``il`` with the flip-flop that drives ``wire`` (its whole Q) left driving an
-    unread wire, and ``wire`` driven by a new input port ``WINDOW_CUT`` of its width."""
-    body = il.split(f"\nmodule \\{top}\n", 1)[1].split("\nend\n", 1)[0]
-    pattern = rf"^(\s*connect \\Q )\\{re.escape(wire)}$"
-    if len(re.findall(pattern, body, re.M)) != 1:
-        raise ValueError(f"{top} has no one flip-flop whose Q is all of {wire}")
-    width = re.search(rf"^\s*wire (?:width (\d+) )?\\{re.escape(wire)}$", body, re.M)
-    bits = int(width.group(1) or 1) if width else 1
-    head, rest = il.split(f"\nmodule \\{top}\n", 1)
-    inner, tail = rest.split("\nend\n", 1)
-    inner = re.sub(pattern, rf"\1\\{WINDOW_CUT}_raw", inner, count=1, flags=re.M)
-    text = (
-        f"{head}\nmodule \\{top}\n  wire width {bits} \\{WINDOW_CUT}_raw\n{inner}\n"
-        f"  connect \\{wire} \\{WINDOW_CUT}\nend\n{tail}"
-    )
-    return add_ports(text, [f"  wire width {bits} input {{port}} \\{WINDOW_CUT}"])
-
-
-def power_up_input(il: str, top: str, wire: str) -> str:
-    """The ``shared_power_up`` input that the flip-flop driving ``wire`` starts from."""
-    body = il.split(f"\nmodule \\{top}\n", 1)[1].split("\nend\n", 1)[0]
-    cells = re.findall(r"^\s*cell \$dff (\S+)\n(.*?)^\s*end$", body, re.M | re.S)
-    order = {name: k for k, name in enumerate(sorted(name for name, _ in cells))}
-    for name, block in cells:
-        if re.search(rf"^\s*connect \\Q \\{re.escape(wire)}$", block, re.M):
-            return f"{POWER_UP}{order[name]}"
-    raise ValueError(f"{top} has no flip-flop whose Q is all of {wire}")
-
-
-def window_verilog(ports: dict[str, tuple[str, int]], window: Window, idle: str) -> str:
-    """The top of the fifth proof: ``gold`` and ``gate``, each from its own power-up state
-    (``mutation_init*`` inputs apiece) but ``idle``, which is 0 in both; the inputs of
-    ``window.schedule`` held to their expressions of the cycle count ``t`` and every other input
-    free and the same in both.  One assertion: in cycle ``window.frame`` the observed words
-    agree, or both lie below ``window.tiny``."""
-    fixed = dict(window.schedule) | {FIRST: "t == 0", idle: "1'b0"}
-    inputs = {n: w for n, (d, w) in ports.items() if d == "input" and n not in fixed}
-    own = {n for n in inputs if n.startswith(POWER_UP)}
-    shared = {n: w for n, w in inputs.items() if n not in own}
-    seen = probe_name(window.observe)
-    width = ports[seen][1]
-    decls = [f"    input wire [{w - 1}:0] {n}" for n, w in shared.items()]
-    decls += [
-        f"    input wire [{inputs[n] - 1}:0] {c}_{n}" for n in sorted(own) for c in ("gold", "gate")
-    ]
-    last = window.frame + 1
-    lines = ["module mutation_window (", ",\n".join(decls), ");", "    reg [15:0] t = 16'd0;"]
-    lines.append(f"    always @(posedge clk) if (t != 16'd{last}) t <= t + 16'd1;")
-    lines.append(f"    wire [{width - 1}:0] gold_seen, gate_seen;")
-    for copy in ("gold", "gate"):
-        given = {n: n for n in shared} | {n: f"{copy}_{n}" for n in own} | fixed
-        conns = [f".{n}({v})" for n, v in given.items()] + [f".{seen}({copy}_seen)"]
-        lines.append(f"    {copy} {copy}_copy ({', '.join(conns)});")
-    small = f"(gold_seen < {window.tiny} && gate_seen < {window.tiny})" if window.tiny else "1'b0"
-    lines += [
-        f"    always @* assert (t != 16'd{window.frame} || gold_seen == gate_seen || {small});",
-        "endmodule",
-        "",
-    ]
-    return "\n".join(lines)
-
-
-def window_inputs(folder: Path, found: dict[int, int]) -> list[str]:
-    """The assignment ``found`` of the unrolled cone's inputs (``first_one``) as the miter's
-    input words, ``<name> = <value> in cycle <t>``, one a line, by cycle then name: ABC's
-    ``frames`` numbers frame t's inputs t x I + 1 .. (t + 1) x I, each in the order of
-    ``window.aig``'s, whose names and bits ``window.map`` (Yosys ``write_aiger -map``) gives."""
-    header = (folder / "window.aig").read_bytes().split(b"\n", 1)[0].split()
-    per_frame = int(header[2])
-    names = {}
-    for line in (folder / "window.map").read_text().splitlines():
-        fields = line.split()
-        if fields[0] == "input":
-            names[int(fields[1])] = (fields[3], int(fields[2]))
-    words: dict[tuple[int, str], int] = {}
-    for v, value in found.items():
-        cycle, index = divmod(v - 1, per_frame)
-        name, bit = names.get(index, (f"unnamed input {index}", 0))
-        words[cycle, name] = words.get((cycle, name), 0) | (value << bit)
-    return [f"{name} = {value} in cycle {t}" for (t, name), value in sorted(words.items())]
-
-
-def _unrolled(folder: Path, top: str, miter: str, frames: int, timeout: float) -> Aig | None:
-    """The fifth proof's miter ``miter`` (Verilog, ``window_verilog``) over
-    ``gold_window.il`` and ``gate_window.il`` in ``folder``, unrolled by ABC over ``frames``
-    cycles from its initial values (``frames -i``) to the cone of its one output
-    (``window_cone.aig``), or None if Yosys and ABC overran ``timeout`` seconds."""
-    (folder / "window.v").write_text(miter)
-    (folder / "abc_host.v").write_text(_ABC_HOST)
-    cone = folder / "window_cone.aig"
-    (folder / "window.abc").write_text(
-        f"backup\nread_aiger window.aig\nstrash\nframes -F {frames} -i\nstrash\norpos\n"
-        f"cone -O 0\nstrash\nwrite_aiger {cone.name}\nrestore\n"
-    )
-    (folder / "window.ys").write_text(
-        f"read_rtlil gold_window.il\nrename {top} gold\nread_rtlil gate_window.il\n"
-        f"rename {top} gate\nread_verilog -formal window.v\nhierarchy -top mutation_window\n"
-        "proc\nchformal -lower\nflatten\nmemory_map\n"
-        "techmap\nsetundef -undriven -anyseq\nopt -fast -keepdc\ndffunmap\naigmap\nopt_clean\n"
-        "write_aiger -zinit -map window.map window.aig\ndesign -reset\nread_verilog abc_host.v\n"
-        "hierarchy -top mutation_abc_host\nproc\ntechmap\nabc -script window.abc\n"
-    )
-    cone.unlink(missing_ok=True)
-    if not _yosys_within(folder, "window.ys", timeout) or not cone.exists():
-        return None
-    return read_aiger(cone)
-
-
-# What prove_window does, in the key of its verdicts (a change of method runs them again)
-_WINDOW_METHOD = "unrolled by ABC frames -i, the cone swept (sim/aiger_eval.py), its inputs counted"
-
-
-def prove_window(
-    folder: Path, top: str, gold_il: str, gate_il: str, window: Window,
-    timeout: float = WINDOW_TIMEOUT,
-) -> tuple[str, int]:  # fmt: skip
-    """The fifth proof: the original ``gold_il`` and the mutant ``gate_il`` (RTLIL, ROMs and
-    multipliers kept: the tables' words and the products are the design's; a table's words
-    beyond its image 0, ``roms_filled``) through ``window``: ``window_verilog``'s miter
-    unrolled by ABC over cycles 0 .. ``window.frame`` (``_unrolled``) to one output, the
-    assertion's, whose cone is swept over every assignment of the inputs it reads
-    (``first_one``, sim/aiger_eval.py).  From two unrelated arbitrary states, with the line's
-    word loaded by the schedule and the pixel's address free: an input the cone does not read
-    (a power-up state, another cycle's input) cannot change the observed word in that cycle,
-    so the sweep decides it for every value of everything else.  'proven', 'failed' (the
-    first assignment that asserts, in ``window_cex.txt``) or 'undecided' (the cone reads more
-    than ``WINDOW_SUPPORT`` inputs, or Yosys and ABC overran ``timeout`` seconds), with the
-    number of inputs the cone reads (0 where it was not built).  A verdict is kept for the
-    same netlists, window and method.
-
-    The tables' filling is sound where a filled table is read only at the addresses the unit
-    gives it: in the BRDF unit only the coefficient tables are filled (2000 words of the 2048
-    their address reaches; the angle table, which the free address reads, has a word at
-    every address), and for a mutation in the window (``in_window``) their address logic lies
-    upstream of the loaded register, the original's in both copies, which reads 2 (n - 1)
-    and 2 (n - 1) + 1 < 2000 only."""
-
-    def prepared(il: str, name: str) -> tuple[str, str]:
-        text = cut_register(_memories_mapped(folder, roms_filled(il), name), top, window.cut)
-        idle = power_up_input(text, top, window.idle)
-        return probed(shared_power_up(text, top), top, [window.observe]), idle
-
-    gold, idle = prepared(gold_il, "gold")
-    gate, idle_gate = prepared(gate_il, "gate")
-    ports = _port_widths(gold, top)
-    if ports != _port_widths(gate, top) or idle != idle_gate:
-        return "undecided", 0
-    (folder / "gold_window.il").write_text(gold)
-    (folder / "gate_window.il").write_text(gate)
-    miter = window_verilog(ports, window, idle)
-    digest = hashlib.sha256(repr((_WINDOW_METHOD, WINDOW_SUPPORT, window, miter)).encode())
-    digest.update(gold.encode())
-    digest.update(gate.encode())
-    key = digest.hexdigest()
-    cached = _known(folder, key)
-    if cached is not None:
-        verdict, inputs = str(cached).split()
-        return verdict, int(inputs)
-    cone = _unrolled(folder, top, miter, window.frame + 1, timeout)
-    inputs = len(support(cone)) if cone is not None else 0
-    verdict = "undecided"
-    if cone is not None and inputs <= WINDOW_SUPPORT:
-        found = first_one(cone, limit=WINDOW_SUPPORT)
-        verdict = "proven" if found is None else "failed"
-        if found is not None:
-            (folder / "window_cex.txt").write_text(
-                "".join(f"{line}\n" for line in window_inputs(folder, found))
-            )
-    _keep(folder, key, f"{verdict} {inputs}")
-    return verdict, inputs
-
-
-def prove_in_window(
-    folder: Path, top: str, design_il: Path, command: str, window: Window,
-    timeout: float = WINDOW_TIMEOUT,
-) -> tuple[str, int]:  # fmt: skip
-    """The fifth proof alone of the design ``design_il`` with the mutation ``command`` against
-    the original, in ``folder``: ('outside', 0) (the mutation is not inside ``window``:
-    ``in_window``), else ``prove_window``'s verdict and the inputs its cone reads."""
-    folder.mkdir(parents=True, exist_ok=True)
-    if not in_window(folder, design_il, command, window):
-        return "outside", 0
-    gate = _mutant(folder, design_il, command)
-    return prove_window(folder, top, design_il.read_text(), gate, window, timeout)

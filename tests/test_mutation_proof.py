@@ -27,6 +27,7 @@ from sim import (
     mutation_invariants,
     mutation_proof,
     mutation_stages,
+    mutation_window,
 )
 from tests.mutation_common import BRDF_DESIGNS, BUILD, DOC, record
 
@@ -262,9 +263,9 @@ def test_the_window_proves_a_log2_survivor_and_finds_a_killed_mutant_s_counterex
     how = {e["id"]: e["equivalent"] for e in rec["equivalent"]}
     assert how[WINDOW_PROVEN].startswith(WINDOW_TEXT)
 
-    def prove(mutant: int, given: mutation_proof.Window) -> tuple[str, int]:
+    def prove(mutant: int, given: mutation_window.Window) -> tuple[str, int]:
         command = log2_list.mutations[mutant - 1].command
-        return mutation_proof.prove_in_window(
+        return mutation_window.prove_in_window(
             tmp_path / f"{mutant}_{given.tiny}", "brdf_unit", log2_list.design_il, command, given
         )
 
@@ -296,7 +297,7 @@ def test_the_window_proves_the_cubic_survivor_through_its_filled_table(tmp_path:
     how = {e["id"]: e["equivalent"] for e in rec["equivalent"]}
     assert how[CUBIC_WINDOW].startswith(WINDOW_TEXT)
     command = net.mutations[CUBIC_WINDOW - 1].command
-    verdict = mutation_proof.prove_in_window(
+    verdict = mutation_window.prove_in_window(
         tmp_path, "brdf_unit", net.design_il, command, net.design.window
     )
     assert verdict == ("proven", 23)
