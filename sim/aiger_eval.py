@@ -58,27 +58,35 @@ def _deltas(buf: np.ndarray, pos: int, inputs: int, ands: np.ndarray) -> int:
     """AIGER's and section: per gate two LEB128 deltas, lhs - rhs0 and rhs0 - rhs1."""
     for k in range(ands.shape[0]):
         lhs = 2 * (inputs + k + 1)
-        d = np.zeros(2, dtype=np.int64)
         for j in range(2):
+            delta = np.int64(0)
             shift = 0
             while True:
                 byte = np.int64(buf[pos])
                 pos += 1
-                d[j] |= (byte & 0x7F) << shift
+                delta |= (byte & 0x7F) << shift
                 shift += 7
                 if byte < 0x80:
                     break
-        ands[k, 0] = lhs - d[0]
-        ands[k, 1] = ands[k, 0] - d[1]
+            ands[k, j] = (lhs if j == 0 else ands[k, 0]) - delta
     return pos
+
+
+def _cone(aig: Aig, output: int) -> np.ndarray:
+    """Per variable (0..inputs + gates): whether the cone of output ``output`` reads it."""
+    need = np.zeros(aig.inputs + len(aig.ands) + 1, dtype=np.bool_)
+    need[aig.outputs[output] >> 1] = True
+    _mark(aig.ands, aig.inputs, need)
+    return need
+
+
+def _inputs(aig: Aig, need: np.ndarray) -> list[int]:
+    return [int(v) for v in np.flatnonzero(need[1 : aig.inputs + 1]) + 1]
 
 
 def support(aig: Aig, output: int = 0) -> list[int]:
     """The inputs (variables 1..inputs) the cone of output ``output`` reads, ascending."""
-    need = np.zeros(aig.inputs + len(aig.ands) + 1, dtype=np.bool_)
-    need[aig.outputs[output] >> 1] = True
-    _mark(aig.ands, aig.inputs, need)
-    return [int(v) for v in np.flatnonzero(need[1 : aig.inputs + 1]) + 1]
+    return _inputs(aig, _cone(aig, output))
 
 
 @njit(cache=True)
@@ -104,16 +112,14 @@ def first_one(aig: Aig, output: int = 0, limit: int = 28) -> dict[int, int] | No
     it is 0 on all of them, else the first assignment (by the binary count over the support,
     its lowest input first) that makes it 1, as {input variable: bit}.  A support wider than
     ``limit`` inputs (2^limit assignments) is refused with ValueError."""
-    inputs = support(aig, output)
+    need = _cone(aig, output)
+    inputs = _inputs(aig, need)
     if len(inputs) > limit:
         raise ValueError(
             f"output {output} reads {len(inputs)} inputs; at most {limit} are swept (2^{limit} "
             "assignments)"
         )
     # the cone's gates, renumbered: 0 false, 1..k the support, then the gates in order
-    need = np.zeros(aig.inputs + len(aig.ands) + 1, dtype=np.bool_)
-    need[aig.outputs[output] >> 1] = True
-    _mark(aig.ands, aig.inputs, need)
     place = np.full(len(need), -1, dtype=np.int64)
     place[0] = 0
     place[np.array(inputs, dtype=np.int64)] = np.arange(1, len(inputs) + 1)

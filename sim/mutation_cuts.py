@@ -143,6 +143,14 @@ def cut_roms(il: str) -> str:
     return f"{head}\nmodule {first}\n" + "\n".join(numbered) + "\n" + body
 
 
+def module_parts(il: str, top: str) -> tuple[str, str, str]:
+    """The RTLIL ``il`` split around module ``top``: what comes before its ``module`` line, its
+    body, and what comes after its ``end``."""
+    head, rest = il.split(f"\nmodule \\{top}\n", 1)
+    body, tail = rest.split("\nend\n", 1)
+    return head, body, tail
+
+
 def add_ports(text: str, decls: list[str]) -> str:
     """The RTLIL ``text`` (one module) with the wires ``decls`` (each with ``{port}`` where its
     port number goes) declared at its top, numbered after its last port."""
@@ -229,7 +237,7 @@ def probed(il: str, top: str, wires: list[str]) -> str:
     """The RTLIL ``il`` with an output port ``probe_name(w)`` showing each wire ``w`` of
     ``wires`` (as the flip-flop's readers see it: after ``shared_power_up``, the power-up state
     in the first cycle)."""
-    body = il.split(f"\nmodule \\{top}\n", 1)[1].split("\nend\n", 1)[0]
+    head, body, tail = module_parts(il, top)
     widths = {
         name: int(width or 1)
         for width, name in re.findall(
@@ -242,9 +250,7 @@ def probed(il: str, top: str, wires: list[str]) -> str:
             raise ValueError(f"an invariant reads {w}, which {top} has no wire of")
         decls.append(f"  wire width {widths[w]} output {{port}} \\{probe_name(w)}")
         conns.append(f"  connect \\{probe_name(w)} \\{w}")
-    head, rest = il.split(f"\nmodule \\{top}\n", 1)
-    inner, tail = rest.split("\nend\n", 1)
-    text = f"{head}\nmodule \\{top}\n{inner}\n" + "\n".join(conns) + "\nend\n" + tail
+    text = f"{head}\nmodule \\{top}\n{body}\n" + "\n".join(conns) + "\nend\n" + tail
     return add_ports(text, decls)
 
 

@@ -57,6 +57,7 @@ from sim.mutation_cuts import (
     cut_roms,
     invariant_verilog,
     invariant_wires,
+    module_parts,
     observed,
     probed,
     product_cuts,
@@ -207,7 +208,7 @@ def _prove(folder: Path, top: str, blacklist: list[str], steps: int, timeout: fl
 
 def _ports(il: str, top: str) -> set[str]:
     """The port names of module ``top`` in the RTLIL ``il``."""
-    body = il.split(f"\nmodule \\{top}\n", 1)[1].split("\nend\n", 1)[0]
+    _, body, _ = module_parts(il, top)
     port = r"^\s*wire (?:width \d+ )?(?:input|output|inout) \d+ \\(\S+)$"
     return set(re.findall(port, body, re.M))
 
@@ -332,7 +333,7 @@ def shared_power_up(il: str, top: str) -> str:
     of its output (``first ? init : Q``).  Two designs with the same flip-flop cells, the same
     inputs given to both, start from the same arbitrary state: what a register without a reset
     holds at power-up is the same in both, as in one chip."""
-    body = il.split(f"\nmodule \\{top}\n", 1)[1].split("\nend\n", 1)[0]
+    _, body, _ = module_parts(il, top)
     cells, order = flip_flops(body)
     port = max(int(n) for n in re.findall(r"^\s*wire .*(?:input|output) (\d+) ", body, re.M))
     decls = [f"  wire input {port + 1} \\{FIRST}"]
@@ -362,8 +363,7 @@ def shared_power_up(il: str, top: str) -> str:
             count=1,
             flags=re.M | re.S,
         )
-    head, rest = il.split(f"\nmodule \\{top}\n", 1)
-    tail = rest.split("\nend\n", 1)[1]
+    head, _, tail = module_parts(il, top)
     return (
         f"{head}\nmodule \\{top}\n" + "\n".join(decls) + "\n" + body + "\n" + "\n".join(extra)
         + "\nend\n" + tail
@@ -396,7 +396,7 @@ def memories_mapped(folder: Path, il: str, name: str) -> str:
 
 def port_widths(il: str, top: str) -> dict[str, tuple[str, int]]:
     """name -> (direction, width) of every port of ``top`` in the RTLIL ``il``."""
-    body = il.split(f"\nmodule \\{top}\n", 1)[1].split("\nend\n", 1)[0]
+    _, body, _ = module_parts(il, top)
     found = re.findall(r"^\s*wire (?:width (\d+) )?(input|output|inout) \d+ \\(\S+)$", body, re.M)
     return {name: (direction, int(width or 1)) for width, direction, name in found}
 

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from sim.aiger_eval import Aig, first_one, read_aiger, support
-from sim.mutation_cuts import add_ports, probe_name, probed, roms_filled
+from sim.mutation_cuts import add_ports, module_parts, probe_name, probed, roms_filled
 from sim.mutation_proof import (
     ABC_HOST,
     CLOCK_PORTS,
@@ -101,17 +101,15 @@ def in_window(folder: Path, design_il: Path, command: str, window: Window) -> bo
 def cut_register(il: str, top: str, wire: str) -> str:
     """The RTLIL ``il`` with the flip-flop that drives ``wire`` (its whole Q) left driving an
     unread wire, and ``wire`` driven by a new input port ``WINDOW_CUT`` of its width."""
-    body = il.split(f"\nmodule \\{top}\n", 1)[1].split("\nend\n", 1)[0]
+    head, body, tail = module_parts(il, top)
     pattern = rf"^(\s*connect \\Q )\\{re.escape(wire)}$"
     if len(re.findall(pattern, body, re.M)) != 1:
         raise ValueError(f"{top} has no one flip-flop whose Q is all of {wire}")
     width = re.search(rf"^\s*wire (?:width (\d+) )?\\{re.escape(wire)}$", body, re.M)
     bits = int(width.group(1) or 1) if width else 1
-    head, rest = il.split(f"\nmodule \\{top}\n", 1)
-    inner, tail = rest.split("\nend\n", 1)
-    inner = re.sub(pattern, rf"\1\\{WINDOW_CUT}_raw", inner, count=1, flags=re.M)
+    body = re.sub(pattern, rf"\1\\{WINDOW_CUT}_raw", body, count=1, flags=re.M)
     text = (
-        f"{head}\nmodule \\{top}\n  wire width {bits} \\{WINDOW_CUT}_raw\n{inner}\n"
+        f"{head}\nmodule \\{top}\n  wire width {bits} \\{WINDOW_CUT}_raw\n{body}\n"
         f"  connect \\{wire} \\{WINDOW_CUT}\nend\n{tail}"
     )
     return add_ports(text, [f"  wire width {bits} input {{port}} \\{WINDOW_CUT}"])
@@ -119,7 +117,7 @@ def cut_register(il: str, top: str, wire: str) -> str:
 
 def power_up_input(il: str, top: str, wire: str) -> str:
     """The ``shared_power_up`` input that the flip-flop driving ``wire`` starts from."""
-    body = il.split(f"\nmodule \\{top}\n", 1)[1].split("\nend\n", 1)[0]
+    _, body, _ = module_parts(il, top)
     cells, order = flip_flops(body)
     for name, block in cells:
         if re.search(rf"^\s*connect \\Q \\{re.escape(wire)}$", block, re.M):
