@@ -37,9 +37,10 @@ For each design (the three units and the shading core) at its default configurat
    asserted alongside (each stage's registers equal in the two copies while its valid bit is
    set, a mutation's own), and for a mutation inside a BRDF form's datapath that window with
    the tables' words and the multipliers kept, unrolled and swept over every n and address
-   (``Design.window``).  A
-   proven mutant is *equivalent* (no test can kill it); one neither killed nor proven is a
-   *survivor*.
+   (``Design.window``), and for a mutation of the core's Gouraud saturation an induction in
+   z3 over both netlists with the accumulator's range as an invariant, the reciprocal ROM's
+   words kept (``Design.induction``, sim/mutation_accumulator.py).  A proven mutant is
+   *equivalent* (no test can kill it); one neither killed nor proven is a *survivor*.
 
 Writes out/mutants/<design>/ (the list, the netlist, the wrapper, the builds, result.json) and
 prints one table: mutants, killed (by which check), proven equivalent, survivors.
@@ -49,10 +50,10 @@ docs/verification.md`` puts its table there (``make mutants``).
 tier's subset (tests/test_mutation.py).  ``--ids`` runs the mutants named, ``--survivors`` the
 last result's survivors, and ``--merge`` puts their new outcomes into the design's last
 result.json (``merge``: after a proof is added, only the survivors need to run again);
-``--reset-proof-only`` gives them the proofs from reset and the window alone (their checks and
-the other proofs already found nothing).
+``--reset-proof-only`` gives them the proofs from reset, the window and the induction alone
+(their checks and the other proofs already found nothing).
 
-Size: about 660 lines: the list, the netlist, the benches, the checks' order and the record
+Size: about 680 lines: the list, the netlist, the benches, the checks' order and the record
 are one flow, ``make mutants``, whose parts only it runs.
 """
 
@@ -64,6 +65,7 @@ import json
 import shutil
 import sys
 import time
+from collections.abc import Callable
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import asdict, dataclass
 from pathlib import Path
@@ -71,6 +73,7 @@ from pathlib import Path
 from model.hw.sources import source_list
 from model.units import brdf
 from sim import core_run, mutation_invariants, units, vector_run, vector_sets
+from sim.mutation_accumulator import accumulator_equivalence
 from sim.mutation_brdf import BRDF_LONG_CHECKS, brdf_window
 from sim.mutation_checks import (
     CORE_CONFIG,
@@ -139,6 +142,13 @@ class Design:
         if self.top != "brdf_unit":
             return None
         return brdf_window(vector_sets.SETS[self.vector_set][0])
+
+    @property
+    def induction(self) -> Callable[[Path, Path, str, int], str | None] | None:
+        """The sixth proof: the core's, for a mutation of a Gouraud value's saturation
+        (sim/mutation_accumulator.py, an induction in z3 with the accumulator's range), or
+        None."""
+        return accumulator_equivalence if self.is_core else None
 
 
 DESIGNS: dict[str, Design] = {
@@ -417,7 +427,8 @@ def run_design(
 
     def proof(i: int) -> str | None:
         """The method that proves mutant ``i`` equivalent: the four of ``equivalence``, then
-        for a design with a window the fifth (``window_equivalence``); or None."""
+        for a design with a window the fifth (``window_equivalence``), for the core the
+        sixth (``Design.induction``); or None."""
         folder, command = net.folder / "equiv" / str(i), by_id[i].command
         how = equivalence(
             folder, design.top, net.design_il, command, design.busy_proof,
@@ -427,6 +438,8 @@ def run_design(
         )  # fmt: skip
         if how is None and window is not None:
             how = window_equivalence(folder, design.top, net.design_il, command, window)
+        if how is None and design.induction is not None:
+            how = design.induction(folder, net.design_il, command, jobs)
         return how
 
     if prove:

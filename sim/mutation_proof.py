@@ -27,7 +27,8 @@ The ROM tables are cut out of both designs (``cut_roms``).  Four kinds of proof
 
 The fifth, a window of a unit's datapath with the tables and multipliers kept, swept over
 every input its unrolled cone reads, is sim/mutation_window.py's; it uses the miter parts
-here (``shared_power_up``, ``memories_mapped``, ``port_widths``) and the verdict cache.
+here (``shared_power_up``, ``memories_mapped``, ``port_widths``) and the verdict cache, as
+does the sixth, an induction in z3 over the two netlists (sim/mutation_induction.py).
 
 A verdict is kept per folder for the same netlists and script.
 

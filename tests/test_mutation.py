@@ -11,7 +11,7 @@ the record's; the stronger checks' stimuli do what their names say.  Slow tier: 
 of every list the record does not prove equivalent through the checks (the specular unit's
 and the core's netlists take minutes to build, so they have no sample of their own), the same
 kills as the record and the rest its survivors.  The proofs' own tests:
-tests/test_mutation_proof.py.
+tests/test_mutation_proof.py and, for the sixth, tests/test_mutation_induction.py.
 """
 
 from __future__ import annotations
@@ -556,19 +556,19 @@ def test_the_facts_that_make_cubic_124_and_log2_143_277_equivalent() -> None:
 
 
 def test_the_readme_s_survivor_counts_are_the_record_s() -> None:
-    """README.md's `make mutants` row gives the survivors as the record has them: none for the
-    units and the BRDF unit's forms it names, one for the core."""
+    """README.md's `make mutants` row gives the survivors as the record has them: none, for
+    as many designs as the record has (the units, the BRDF unit's forms and the core)."""
     text = (Path(__file__).resolve().parents[1] / "README.md").read_text()
     found = re.search(
-        r"the divider, the Gouraud unit, the specular unit and the BRDF unit's (\w+) forms have "
-        r"no survivor; the core has (\w+),",
+        r"none of the (\w+) designs has a survivor: the divider, the Gouraud unit, the "
+        r"specular unit, the BRDF unit's (\w+) forms and the core\)",
         text,
     )
     assert found, "README.md's make mutants row no longer gives the survivors"
     designs = record()["designs"]
-    words = ("none", "one", "two", "three", "four", "five")
-    forms, core = (words.index(w) for w in found.groups())
+    words = ("none", "one", "two", "three", "four", "five", "six", "seven", "eight", "nine")
+    total, forms = (words.index(w) for w in found.groups())
     assert forms == len(BRDF_DESIGNS)
-    for name in ("divider_shift", "gouraud_segment", "specular_unit", *BRDF_DESIGNS):
-        assert designs[name]["survivors"] == [], name
-    assert len(designs["shading_core"]["survivors"]) == core
+    assert total == len(designs) == len(mutation.DESIGNS) == forms + 4
+    for name, design in designs.items():
+        assert design["survivors"] == [], name
