@@ -130,7 +130,9 @@ def harness(ports: dict[str, tuple[str, int]], s: Shape) -> str:
     and the mutant's ``gate_*``, the original's ce, take and issue, and the shadows: the
     channel's dividend a through stages C, D and E (beside rtl/shading_increment.v's
     products), the span's count k and end value e."""
-    decl, conn_gold, conn_gate, outs = [], [], [], []
+    decl: list[str] = []
+    conn_gold: list[str] = []
+    conn_gate: list[str] = []
     for name, (direction, width) in sorted(ports.items()):
         rng = f"[{width - 1}:0] " if width > 1 else ""
         if direction == "input":
@@ -149,10 +151,11 @@ def harness(ports: dict[str, tuple[str, int]], s: Shape) -> str:
         *(f"    output reg  [{d - 1}:0] mutation_a_{stage}" for stage in "cde"),
         f"    output reg  [{w - 1}:0] mutation_k", f"    output reg  [{w - 1}:0] mutation_e",
     ]  # fmt: skip
-    outs.append(
-        f"    .ce(ce), .take(take), .issue(issue), .ld(ld), .id(id), .di_b(di_b),\n"
-        f"    .\\g_increment[{c}].u_increment.a_reg (a_b)"
-    )
+    # the original's wires the harness reads (made ports by ``expose``)
+    conn_gold += [
+        ".ce(ce)", ".take(take)", ".issue(issue)", ".ld(ld)", ".id(id)", ".di_b(di_b)",
+        f".\\g_increment[{c}].u_increment.a_reg (a_b)",
+    ]  # fmt: skip
     ports_text = ",\n".join(decl)
     return f"""// The sixth proof's miter (sim/mutation_accumulator.py), channel {c}
 module mutation_miter (
@@ -161,8 +164,7 @@ module mutation_miter (
 wire [{s.channels * i - 1}:0] id;
 wire [{s.channels * d - 1}:0] di_b;
 wire [{d - 1}:0] a_b;
-mutation_gold gold ({", ".join(conn_gold)},
-{outs[0]});
+mutation_gold gold ({", ".join(conn_gold)});
 mutation_gate gate ({", ".join(conn_gate)});
 wire [{i - 1}:0] i_e = id[{c * i} +: {i}];
 // the increment the span register takes (0 for a span of one pixel, as it does)
@@ -199,8 +201,8 @@ class Accumulator(Induction):
     ):  # fmt: skip
         super().__init__(smt2)
         self.s, self.low, self.dropped = s, low, frozenset(dropped)
-        rom = initial_words(smt2, _ff("gold", RECIP_ROM).removesuffix("_$ff_Q"))
-        self.words = rom
+        # the reciprocal ROM's image, the lemma's word of each length
+        self.words = initial_words(smt2, f"gold.{RECIP_ROM}")
 
     # -- the pieces of a state
     def _rtl_products(self, a: z3.BitVecRef, r: z3.BitVecRef) -> dict[str, z3.BitVecRef]:
@@ -340,6 +342,7 @@ class Accumulator(Induction):
 
 def accumulator_miter(folder: Path, design_il: Path, command: str, s: Shape) -> Path:
     """The functional netlist of the original and the mutant under ``harness``."""
+    folder.mkdir(parents=True, exist_ok=True)
     mutant_netlist(folder, design_il, command)
     ports = port_widths(design_il.read_text(), "shading_core")
     expose = [
@@ -369,7 +372,6 @@ def accumulator_equivalence(folder: Path, design_il: Path, command: str, jobs: i
     channel = gouraud_channel(il, command)
     if channel is None:
         return None
-    folder.mkdir(parents=True, exist_ok=True)
     s = shape(il, channel)
     smt2 = accumulator_miter(folder, design_il, command, s)
     verdict, counts = prove(folder, Accumulator, smt2, (s,), jobs)
