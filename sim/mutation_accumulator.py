@@ -30,7 +30,7 @@ from pathlib import Path
 
 import z3
 
-from sim.mutation_induction import Induction, functional_miter, initial_words, prove
+from sim.mutation_induction import Induction, functional_miter, prove, rom_images
 from sim.mutation_proof import CLOCK_PORTS, mutant_netlist, mutate_field, port_widths
 
 # The accumulator's end value e lies in [LOW, 2^HIGH_BITS) for every span (the lemma: i_end
@@ -187,8 +187,13 @@ endmodule
 """
 
 
+def _reg(name: str) -> str:
+    """The state field of the register ``name`` (``autoname``: after its output)."""
+    return f"{name}_$ff_Q"
+
+
 def _ff(copy: str, wire: str) -> str:
-    return f"{copy}.{wire}_$ff_Q"
+    return _reg(f"{copy}.{wire}")
 
 
 class Accumulator(Induction):
@@ -202,7 +207,7 @@ class Accumulator(Induction):
         super().__init__(smt2)
         self.s, self.low, self.dropped = s, low, frozenset(dropped)
         # the reciprocal ROM's image, the lemma's word of each length
-        self.words = initial_words(smt2, f"gold.{RECIP_ROM}")
+        self.words = rom_images(smt2)[f"gold.{RECIP_ROM}"]
 
     # -- the pieces of a state
     def _rtl_products(self, a: z3.BitVecRef, r: z3.BitVecRef) -> dict[str, z3.BitVecRef]:
@@ -282,14 +287,14 @@ class Accumulator(Induction):
         under("vb", "ROM word of the length", inc("r_reg") == word(g("lb_reg")))
         under("vb", "i_start + a in range", in_range(chan(g("ib_reg"), s.i_width), inc("a_reg")))
         for stage, regs in (("c", ("ll", "lh", "hl", "hh")), ("d", ("lo", "hi")), ("e", ("q",))):
-            a = st[f"mutation_a_{stage}_$ff_Q"]
+            a = st[_reg(f"mutation_a_{stage}")]
             want = self._rtl_products(a, word(field_l(f"f{stage}_reg")))
             for reg in regs:
                 under(f"v{stage}", f"{reg} of a and the word", inc(f"{reg}_reg") == want[reg])
             under(f"v{stage}", "i_start + a in range", in_range(field_i(f"f{stage}_reg"), a))
         act = g("act_reg") == 1
         acc, di = chan(g("gacc_reg"), s.g_width), chan(g("di_reg"), s.di_width)
-        k, e = st["mutation_k_$ff_Q"], st["mutation_e_$ff_Q"]
+        k, e = st[_reg("mutation_k")], st[_reg("mutation_e")]
         w, w_acc = WIDE, s.g_width
         found += [
             ("span: k = cnt", z3.Implies(act, k == z3.ZeroExt(w - s.len_width, g("cnt_reg")))),
@@ -316,19 +321,18 @@ class Accumulator(Induction):
     def cases(self, out: dict[str, z3.ExprRef]) -> list[z3.BoolRef]:
         return [out["ce"], out["take"], out["issue"]]
 
-    def lemma(self, out: dict, after: dict, value: int) -> tuple[z3.BoolRef, z3.BoolRef]:
-        """A span of length ``value`` taken: its end value in range (the ROM's word of the
-        length the netlist's own)."""
-        rom = self.machine.state(lambda f: f"s.{f}")[f"gold.{RECIP_ROM}"]
-        premise = z3.And(
-            out["take"] == 1,
-            out["ld"] == value,
-            z3.Select(rom, value) == self.words[value],
-        )
-        return premise, self._e_range(after["mutation_e_$ff_Q"])
+    def lemma_when(self, out: dict[str, z3.ExprRef]) -> z3.BoolRef:
+        return out["take"] == 1
 
-    def lemma_claim(self, out: dict, after: dict) -> z3.BoolRef:
-        return z3.Implies(out["take"] == 1, self._e_range(after["mutation_e_$ff_Q"]))
+    def lemma_premise(self, st: dict, out: dict, value: int) -> z3.BoolRef:
+        """A span of length ``value`` taken, the ROM's word of that length the netlist's
+        own."""
+        rom = st[f"gold.{RECIP_ROM}"]
+        return z3.And(out["ld"] == value, z3.Select(rom, value) == self.words[value])
+
+    def lemma_claim(self, after: dict[str, z3.ExprRef]) -> z3.BoolRef:
+        """The span's end value in range."""
+        return self._e_range(after[_reg("mutation_e")])
 
     def lemma_values(self) -> list[int]:
         return list(range(1 << self.s.len_width))

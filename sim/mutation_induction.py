@@ -15,8 +15,8 @@ induction (``Machine``, ``decide``):
 * each state is the state datatype's constructor over fresh constants, one per field, so
   that z3's ``solve-eqs`` substitutes a field proven equal in the two copies and the
   multipliers of the two copies become one term;
-* the base: from any power-up state the two copies share (every flip-flop and FIFO word;
-  the harness's registers free), one clock with ``rst_n`` low gives a state where every
+* the base: from any power-up state the two copies share (every flip-flop, FIFO word and
+  ROM; the harness's registers free), one clock with ``rst_n`` low gives a state where every
   invariant holds, and the outputs of that cycle obey the contract;
 * the step: from any state where every invariant holds, one clock with any inputs gives a
   state where each holds again, and the outputs obey the contract, one query per invariant
@@ -31,13 +31,14 @@ hold for fails before the lemmas' many queries.
 
 A memory without a write port (a ROM) stays an array in the state; its next state is the
 same array (checked: ``Machine.roms``), so its words are the netlist's initial ones in every
-state, which a lemma may read (``initial_words``).
+state, which a lemma may read (``rom_images``).
 """
 
 from __future__ import annotations
 
 import functools
 import hashlib
+import inspect
 import multiprocessing
 import os
 import re
@@ -88,12 +89,6 @@ def functional_miter(
 
 
 _INITIAL = f"(declare-const {MITER}-initial"
-
-
-def initial_words(smt2: str, field: str) -> dict[int, int]:
-    """address -> word of the memory ``field`` of the functional netlist ``smt2``, as its
-    initial state gives them (a ROM's image)."""
-    return rom_images(smt2).get(field, {})
 
 
 def rom_images(smt2: str) -> dict[str, dict[int, int]]:
@@ -224,7 +219,6 @@ class Induction(ABC):
     dropped: frozenset[str] = frozenset()
 
     def __init__(self, smt2: str) -> None:
-        self.smt2 = smt2
         self.machine = Machine(smt2)
 
     @abstractmethod
@@ -240,12 +234,17 @@ class Induction(ABC):
         """One-bit signals each step query fixes (one query per combination)."""
 
     @abstractmethod
-    def lemma(self, outputs: dict, after: dict, value: int) -> tuple[z3.BoolRef, z3.BoolRef]:
-        """(premise, claim) of the lemma for one ``value``, besides the invariants."""
+    def lemma_when(self, outputs: dict[str, z3.ExprRef]) -> z3.BoolRef:
+        """When the lemma speaks (a span taken)."""
 
     @abstractmethod
-    def lemma_claim(self, outputs: dict, after: dict) -> z3.BoolRef:
-        """What the step assumes: the lemma's claim for every value."""
+    def lemma_premise(self, state: dict, outputs: dict, value: int) -> z3.BoolRef:
+        """The lemma's field at ``value``, and what that value fixes (a ROM's word)."""
+
+    @abstractmethod
+    def lemma_claim(self, after: dict[str, z3.ExprRef]) -> z3.BoolRef:
+        """The lemma's claim over the state after the clock; the step assumes it whenever
+        ``lemma_when``, as the lemmas prove it for every value."""
 
     @abstractmethod
     def lemma_values(self) -> list[int]:
@@ -281,27 +280,27 @@ class Induction(ABC):
         return self.reset(inputs), outputs, [claim for _, claim in self.invariants(after)]
 
     @functools.cached_property
-    def _step(self) -> tuple[list[z3.BoolRef], dict, dict, list[z3.BoolRef]]:
-        """A step from any state: the invariants held (but ``dropped``), the outputs, the
-        state after, and the invariants over it."""
+    def _step(self) -> tuple[dict, list[z3.BoolRef], dict, dict, list[z3.BoolRef]]:
+        """A step from any state: the state, the invariants held (but ``dropped``), the
+        outputs, the state after, and the invariants over it."""
         state = self.machine.state(lambda f: f"s.{f}")
         outputs, after = self.machine.step(state, self.machine.input_values("i"))
         held = [inv for name, inv in self.invariants(state) if name not in self.dropped]
-        return held, outputs, after, [claim for _, claim in self.invariants(after)]
+        return state, held, outputs, after, [claim for _, claim in self.invariants(after)]
 
     def decide(self, query: Query) -> str:
         """'unsat' (the query's claim holds), 'sat' or 'unknown'."""
         if query.kind == "base":
             reset, outputs, claims = self._base
             return unsat([reset], self.contract(outputs) if query.goal < 0 else claims[query.goal])
-        held, outputs, after, claims = self._step
+        state, held, outputs, after, claims = self._step
+        when, lemma = self.lemma_when(outputs), self.lemma_claim(after)
         if query.kind == "lemma":
-            premise, claim = self.lemma(outputs, after, query.value)
-            return unsat([*held, premise], claim)
+            return unsat([*held, when, self.lemma_premise(state, outputs, query.value)], lemma)
         signals = self.cases(outputs)
         case = [s == 1 if v else s == 0 for s, v in zip(signals, query.case, strict=True)]
         claim = self.contract(outputs) if query.goal < 0 else claims[query.goal]
-        return unsat([*held, *case, self.lemma_claim(outputs, after)], claim)
+        return unsat([*held, *case, z3.Implies(when, lemma)], claim)
 
 
 _worker: Induction | None = None
@@ -324,21 +323,30 @@ def run(
 ) -> list[str]:  # fmt: skip
     """``queries`` decided in order by ``kind(smt2, *args)`` in ``jobs`` processes (spawned:
     each parses the netlist once), up to the first that is not 'unsat' (the rest are
-    cancelled); each verdict and its seconds written to ``log`` as it comes."""
+    cancelled); each verdict and its seconds written to ``log`` as it comes, and last a line
+    of the counts and the solver seconds of each kind."""
     context = multiprocessing.get_context("spawn")
     verdicts: list[str] = []
+    seconds = {"base": 0.0, "step": 0.0, "lemma": 0.0}
     pool = ProcessPoolExecutor(jobs, mp_context=context, initializer=_start,
                                initargs=(kind, smt2, args))  # fmt: skip
     try:
         with log.open("w") as out:
-            for query, (verdict, seconds) in zip(
+            for query, (verdict, took) in zip(
                 queries, pool.map(_decide, queries, chunksize=8), strict=False
             ):  # fmt: skip
-                out.write(f"{query} {verdict} {seconds:.2f}\n")
+                out.write(f"{query} {verdict} {took:.2f}\n")
                 out.flush()
                 verdicts.append(verdict)
+                seconds[query.kind] += took
                 if verdict != "unsat":
                     break
+            out.write(
+                f"{len(verdicts)} of {len(queries)} queries decided, "
+                f"{sum(v == 'unsat' for v in verdicts)} unsat; solver seconds: "
+                + ", ".join(f"{k} {t:.1f}" for k, t in seconds.items())
+                + f", all {sum(seconds.values()):.1f}\n"
+            )
     finally:
         pool.shutdown(wait=True, cancel_futures=True)
     return verdicts
@@ -351,9 +359,11 @@ def prove(
     queries of each kind), the query not decided unsat in ``folder``/induction_failed.txt.  The ROMs
     are checked first: kept by every step (``Machine.roms``) and the same image in both
     copies (so a power-up state the copies share holds the netlist's words).  A verdict is
-    kept for the same netlist, design and method."""
+    kept for the same netlist, method and design (its class's source: a change of an
+    invariant runs the queries again)."""
     text = smt2.read_text()
-    key = hashlib.sha256(repr((_METHOD, kind.__name__, args)).encode() + text.encode()).hexdigest()
+    design = repr((_METHOD, inspect.getsource(kind), args))
+    key = hashlib.sha256(design.encode() + text.encode()).hexdigest()
     problem = kind(text, *args)
     queries = problem.queries()
     counts = {k: sum(1 for q in queries if q.kind == k) for k in ("lemma", "base", "step")}
